@@ -1,0 +1,41 @@
+//! JSON export of the assembled matrices, to carry the model to other tools.
+
+use crate::{PlantError, SlewingModel};
+use faer::Mat;
+use serde_json::{Value, json};
+
+fn rows(m: &Mat<f64>) -> Value {
+    Value::Array(
+        (0..m.nrows())
+            .map(|i| json!((0..m.ncols()).map(|j| m[(i, j)]).collect::<Vec<_>>()))
+            .collect(),
+    )
+}
+
+impl SlewingModel {
+    /// `{"name", "states", "outputs", "M", "D", "K", "B", "A", "C", "x0"}` with matrices as
+    /// arrays of rows; states are [θ, q_1..q_n, θ̇, q̇_1..q̇_n].
+    ///
+    /// # Errors
+    /// As [`SlewingModel::state_space`].
+    pub fn matrices_json(&self) -> Result<Value, PlantError> {
+        let ss = self.state_space()?;
+        let n = self.n_modes();
+        let mut states = vec!["theta".to_string()];
+        states.extend((1..=n).map(|i| format!("q{i}")));
+        states.push("theta_dot".into());
+        states.extend((1..=n).map(|i| format!("q{i}_dot")));
+        Ok(json!({
+            "name": self.file().name,
+            "states": states,
+            "outputs": self.output_names(),
+            "M": rows(&ss.m),
+            "D": rows(&ss.d),
+            "K": rows(&ss.k),
+            "B": rows(&ss.b),
+            "A": rows(&ss.a),
+            "C": rows(&ss.c),
+            "x0": ss.x0,
+        }))
+    }
+}

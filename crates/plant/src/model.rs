@@ -1,0 +1,230 @@
+//! The slewing model as a whole: a validated model file and the matrices it defines.
+
+use crate::assemble::{first_order, second_order};
+use crate::file::{ModelFile, locate};
+use crate::sensors::{Sensor, output_matrix};
+use crate::{Constants, ParamId, PlantError};
+use faer::Mat;
+use nalgebra::DMatrix;
+use num_dual::Dual64;
+
+/// The matrices of the model at its current parameter values.
+#[derive(Clone, Debug)]
+pub struct StateSpace {
+    /// Mass matrix M ((n+1)×(n+1)).
+    pub m: Mat<f64>,
+    /// Damping matrix D.
+    pub d: Mat<f64>,
+    /// Stiffness matrix K.
+    pub k: Mat<f64>,
+    /// Input vector B ((n+1)×1).
+    pub b: Mat<f64>,
+    /// System matrix A (2(n+1) square).
+    pub a: Mat<f64>,
+    /// Output matrix C (p × 2(n+1)).
+    pub c: Mat<f64>,
+    /// Initial state x(0).
+    pub x0: Vec<f64>,
+}
+
+/// A(P), C(P) and their exact derivatives with respect to chosen parameters.
+#[derive(Clone, Debug)]
+pub struct Linearization {
+    /// A at P.
+    pub a: Mat<f64>,
+    /// C at P.
+    pub c: Mat<f64>,
+    /// ∂A/∂P_i, one per chosen parameter.
+    pub da: Vec<Mat<f64>>,
+    /// ∂C/∂P_i (zero unless a strain output is measured and P_i changes the mode shapes).
+    pub dc: Vec<Mat<f64>>,
+}
+
+/// A validated slewing model, ready to assemble.
+#[derive(Clone, Debug)]
+pub struct SlewingModel {
+    file: ModelFile,
+    origin: String,
+    text: String,
+    constants: Constants<f64>,
+}
+
+fn to_faer(m: &DMatrix<f64>) -> Mat<f64> {
+    Mat::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)])
+}
+
+impl SlewingModel {
+    /// Parses a model from RON text; `origin` names it in errors (a file name).
+    ///
+    /// # Errors
+    /// As [`ModelFile::parse`].
+    pub fn from_ron(text: &str, origin: &str) -> Result<Self, PlantError> {
+        let file = ModelFile::parse(text, origin)?;
+        let constants = file.constants();
+        let model = Self {
+            file,
+            origin: origin.to_string(),
+            text: text.to_string(),
+            constants,
+        };
+        // Assemble once so that a file whose values cannot be assembled fails at load time.
+        model.state_space()?;
+        Ok(model)
+    }
+
+    /// Reads and parses a model file.
+    ///
+    /// # Errors
+    /// [`PlantError::Io`] if it cannot be read, else as [`Self::from_ron`].
+    pub fn load(path: &std::path::Path) -> Result<Self, PlantError> {
+        let text = std::fs::read_to_string(path).map_err(|source| PlantError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Self::from_ron(&text, &path.display().to_string())
+    }
+
+    /// The model file with the current parameter values written in.
+    pub fn file(&self) -> ModelFile {
+        let mut f = self.file.clone();
+        f.set_constants(&self.constants);
+        f
+    }
+
+    /// Number of flexible modes n.
+    pub fn n_modes(&self) -> usize {
+        self.file.n_modes()
+    }
+
+    /// Number of states N = 2(n+1).
+    pub fn n_states(&self) -> usize {
+        2 * (self.n_modes() + 1)
+    }
+
+    /// Current constants.
+    pub fn constants(&self) -> &Constants<f64> {
+        &self.constants
+    }
+
+    /// The measured sensors, in output order.
+    pub fn sensors(&self) -> &[Sensor] {
+        &self.file.outputs
+    }
+
+    /// Output names, in order.
+    pub fn output_names(&self) -> Vec<&'static str> {
+        self.file.outputs.iter().map(|s| s.output_name()).collect()
+    }
+
+    /// Looks a parameter name up.
+    ///
+    /// # Errors
+    /// [`PlantError::UnknownParameter`] listing the valid names.
+    pub fn parameter(&self, name: &str) -> Result<ParamId, PlantError> {
+        ParamId::parse(name, self.n_modes())
+    }
+
+    /// The parameters the file marks as free.
+    ///
+    /// # Errors
+    /// Never for a validated file; kept fallible for symmetry with [`Self::parameter`].
+    pub fn free_parameters(&self) -> Result<Vec<ParamId>, PlantError> {
+        self.file.free.iter().map(|n| self.parameter(n)).collect()
+    }
+
+    /// Bounds given in the file for a parameter, if any.
+    pub fn bounds(&self, id: ParamId) -> Option<(f64, f64)> {
+        self.file.bounds.get(&id.name()).copied()
+    }
+
+    /// The current value of a parameter.
+    pub fn get(&self, id: ParamId) -> f64 {
+        self.constants.get(id)
+    }
+
+    /// Sets a parameter.
+    ///
+    /// # Errors
+    /// [`PlantError::InvalidValue`] if the value is physically impossible.
+    pub fn set(&mut self, id: ParamId, value: f64) -> Result<(), PlantError> {
+        id.check(value)
+            .map_err(|requirement| PlantError::InvalidValue {
+                origin: self.origin.clone(),
+                line: 0,
+                column: 0,
+                field: id.name(),
+                value,
+                requirement,
+            })?;
+        *self.constants.field_mut(id) = value;
+        Ok(())
+    }
+
+    /// Sets the initial hub angle \[rad\].
+    pub fn set_initial_angle(&mut self, hub_angle: f64) {
+        self.file.initial_condition.hub_angle = hub_angle;
+    }
+
+    /// x(0) = [θ(0), 0, …, 0, θ̇(0), 0, …, 0]: the beam undeformed and at rest.
+    pub fn initial_state(&self) -> Vec<f64> {
+        let mut x = vec![0.0; self.n_states()];
+        x[0] = self.file.initial_condition.hub_angle;
+        x[self.n_modes() + 1] = self.file.initial_condition.hub_rate;
+        x
+    }
+
+    /// M, D, K, B, A, C, x(0) at the current values.
+    ///
+    /// # Errors
+    /// [`PlantError::Beam`] or [`PlantError::SingularMass`] for impossible combinations.
+    pub fn state_space(&self) -> Result<StateSpace, PlantError> {
+        let so = second_order(&self.constants)?;
+        let a = first_order(&so)?;
+        let c = output_matrix(&self.constants, &so, &self.file.outputs);
+        Ok(StateSpace {
+            m: to_faer(&so.m),
+            d: to_faer(&so.d),
+            k: to_faer(&so.k),
+            b: Mat::from_fn(so.b.len(), 1, |i, _| so.b[i]),
+            a: to_faer(&a),
+            c: to_faer(&c),
+            x0: self.initial_state(),
+        })
+    }
+
+    /// A, C and their exact derivatives with respect to `params`: the whole chain (beam roots,
+    /// mode shapes, participation integrals, M⁻¹K, M⁻¹D) is evaluated in dual numbers.
+    ///
+    /// # Errors
+    /// As [`Self::state_space`].
+    pub fn linearization(&self, params: &[ParamId]) -> Result<Linearization, PlantError> {
+        let ss = self.state_space()?;
+        let mut da = Vec::with_capacity(params.len());
+        let mut dc = Vec::with_capacity(params.len());
+        for &id in params {
+            let mut dual = self.constants.map(|v| Dual64::from(*v));
+            dual.field_mut(id).eps = 1.0;
+            let so = second_order(&dual)?;
+            let a = first_order(&so)?;
+            let c = output_matrix(&dual, &so, &self.file.outputs);
+            da.push(Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)].eps));
+            dc.push(Mat::from_fn(c.nrows(), c.ncols(), |i, j| c[(i, j)].eps));
+        }
+        Ok(Linearization {
+            a: ss.a,
+            c: ss.c,
+            da,
+            dc,
+        })
+    }
+
+    /// The model as RON text with the current values.
+    pub fn to_ron(&self) -> String {
+        self.file().to_ron()
+    }
+
+    /// Line and column of a field in the text this model was read from ((0, 0) if absent).
+    pub fn locate(&self, path: &str) -> (usize, usize) {
+        locate(&self.text, path)
+    }
+}
