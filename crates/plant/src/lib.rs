@@ -46,6 +46,6 @@ pub use file::{
     BeamSection, ControlSection, HubSection, InitialCondition, ModelFile, MotorSection, locate,
 };
 pub use modal::{ModalRow, ModeKind, RawMode, modes_of};
-pub use model::{Linearization, SlewingModel, StateSpace};
+pub use model::{Linearization, PAPER_MODEL_RON, SlewingModel, StateSpace};
 pub use params::{Constants, ParamId};
 pub use sensors::Sensor;

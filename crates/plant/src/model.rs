@@ -53,7 +53,16 @@ fn to_faer(m: &DMatrix<f64>) -> Mat<f64> {
     Mat::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)])
 }
 
+/// The paper's experiment, `fixtures/slewing.ron`, embedded in the library.
+pub const PAPER_MODEL_RON: &str = include_str!("../../../fixtures/slewing.ron");
+
 impl SlewingModel {
+    /// The paper's experiment ([`PAPER_MODEL_RON`]).
+    pub fn paper() -> Self {
+        Self::from_ron(PAPER_MODEL_RON, "fixtures/slewing.ron")
+            .expect("the embedded fixture is valid")
+    }
+
     /// Parses a model from RON text; `origin` names it in errors (a file name).
     ///
     /// # Errors

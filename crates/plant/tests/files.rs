@@ -2,7 +2,7 @@
 
 use plant::{PlantError, SlewingModel};
 
-const GOOD: &str = include_str!("../../../fixtures/slewing.ron");
+const GOOD: &str = plant::PAPER_MODEL_RON;
 
 fn load(text: &str) -> Result<SlewingModel, PlantError> {
     SlewingModel::from_ron(text, "test.ron")

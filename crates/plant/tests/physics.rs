@@ -3,11 +3,7 @@
 use plant::{ModeKind, ParamId, SlewingModel};
 
 fn fixture() -> SlewingModel {
-    SlewingModel::from_ron(
-        include_str!("../../../fixtures/slewing.ron"),
-        "fixtures/slewing.ron",
-    )
-    .unwrap()
+    SlewingModel::paper()
 }
 
 #[test]

@@ -11,11 +11,7 @@ const ROWS: [(&str, f64, f64, f64, f64, f64); 3] = [
 ];
 
 fn fixture() -> SlewingModel {
-    SlewingModel::from_ron(
-        include_str!("../../../fixtures/slewing.ron"),
-        "fixtures/slewing.ron",
-    )
-    .unwrap()
+    SlewingModel::paper()
 }
 
 #[test]
