@@ -30,9 +30,7 @@ fn bench_frechet(c: &mut Criterion) {
             if n >= 256 && j == 20 {
                 group.sample_size(10);
             }
-            let es: Vec<Mat<f64>> = (0..j)
-                .map(|k| test_problems::gaussian(n, n, k as u64))
-                .collect();
+            let es: Vec<Mat<f64>> = (0..j).map(|k| test_problems::gaussian(n, n, k as u64)).collect();
             let refs: Vec<_> = es.iter().map(|e| e.as_ref()).collect();
             group.bench_with_input(BenchmarkId::new(format!("j{j}"), n), &refs, |b, refs| {
                 b.iter(|| expm::expm_frechet_many(black_box(a.as_ref()), refs).unwrap())
@@ -51,17 +49,13 @@ fn bench_propagator(c: &mut Criterion) {
     let h = 1.0 / 12.8;
     c.bench_function("propagator/paper/build", |b| {
         b.iter(|| {
-            expm::SensitivityPropagator::new(black_box(a.as_ref()), &refs, family.c.as_ref(), h)
-                .unwrap()
+            expm::SensitivityPropagator::new(black_box(a.as_ref()), &refs, family.c.as_ref(), h).unwrap()
         })
     });
     let prop = expm::SensitivityPropagator::new(a.as_ref(), &refs, family.c.as_ref(), h).unwrap();
     let mut out = expm::Response::zeros(400, 3, 2);
     c.bench_function("propagator/paper/propagate", |b| {
-        b.iter(|| {
-            prop.propagate_into(black_box(&family.x0), None, &mut out)
-                .unwrap()
-        })
+        b.iter(|| prop.propagate_into(black_box(&family.x0), None, &mut out).unwrap())
     });
 }
 

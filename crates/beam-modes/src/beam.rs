@@ -35,24 +35,14 @@ impl<D: DualNum<Primitive = f64> + Copy> Beam<D> {
         ];
         for (name, value) in positive {
             if !(value.is_finite() && value > 0.0) {
-                return Err(BeamError::InvalidProperty {
-                    name,
-                    value,
-                    requirement: "finite and > 0",
-                });
+                return Err(BeamError::InvalidProperty { name, value, requirement: "finite and > 0" });
             }
         }
-        let non_negative = [
-            ("hub_radius", self.hub_radius.re()),
-            ("root_stiffness", self.root_stiffness.re()),
-        ];
+        let non_negative =
+            [("hub_radius", self.hub_radius.re()), ("root_stiffness", self.root_stiffness.re())];
         for (name, value) in non_negative {
             if !(value.is_finite() && value >= 0.0) {
-                return Err(BeamError::InvalidProperty {
-                    name,
-                    value,
-                    requirement: "finite and ≥ 0",
-                });
+                return Err(BeamError::InvalidProperty { name, value, requirement: "finite and ≥ 0" });
             }
         }
         Ok(())

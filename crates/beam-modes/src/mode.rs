@@ -1,8 +1,6 @@
 //! Mass-normalised mode shapes and the quantities the slewing plant needs.
 
-use crate::characteristic::{
-    SERIES_LIMIT, brent, characteristic, clamped_free_root, pinned_free_root,
-};
+use crate::characteristic::{SERIES_LIMIT, brent, characteristic, clamped_free_root, pinned_free_root};
 use crate::krylov::krylov;
 use crate::{Beam, BeamError};
 use num_dual::{Dual64, DualNum};
@@ -94,10 +92,7 @@ fn raw_shape<D: DualNum<Primitive = f64> + Copy>(lambda: D, shape: &Shape<D>, u:
 fn coefficients<D: DualNum<Primitive = f64> + Copy>(lambda: D, kappa: D) -> Shape<D> {
     if lambda.re() < SERIES_LIMIT {
         let [s1, s2, _, s4] = krylov(lambda);
-        Shape::Series {
-            kappa,
-            c: -(lambda * s4 + kappa * s1) / s2,
-        }
+        Shape::Series { kappa, c: -(lambda * s4 + kappa * s1) / s2 }
     } else {
         let e = (-lambda).exp();
         let (s, c) = lambda.sin_cos();
@@ -107,12 +102,7 @@ fn coefficients<D: DualNum<Primitive = f64> + Copy>(lambda: D, kappa: D) -> Shap
         let cc = -(lambda * hat4 + kappa * hat1) / hat2;
         // λ + κ + c = [λ sin λ + κ(sin λ − cos λ − e^{−λ})/2] / S₂(λ), without cancellation.
         let g = (lambda * s + kappa * (s - c - e) * 0.5) / hat2;
-        Shape::Exponential {
-            g,
-            h: (kappa - lambda - cc) * 0.25,
-            p: -kappa * 0.5,
-            q: (lambda - cc) * 0.5,
-        }
+        Shape::Exponential { g, h: (kappa - lambda - cc) * 0.25, p: -kappa * 0.5, q: (lambda - cc) * 0.5 }
     }
 }
 
@@ -146,14 +136,12 @@ pub fn modes<D: DualNum<Primitive = f64> + Copy>(
             let lambda0 = if kappa0 == 0.0 {
                 lower
             } else {
-                brent(|l| characteristic(l, kappa0), lower, upper).ok_or(
-                    BeamError::RootNotFound {
-                        mode: i,
-                        lower,
-                        upper,
-                        kappa: kappa0,
-                    },
-                )?
+                brent(|l| characteristic(l, kappa0), lower, upper).ok_or(BeamError::RootNotFound {
+                    mode: i,
+                    lower,
+                    upper,
+                    kappa: kappa0,
+                })?
             };
             let slope = characteristic(Dual64::new(lambda0, 1.0), Dual64::from(kappa0)).eps;
             let lambda = D::from(lambda0) - characteristic(D::from(lambda0), kappa) / slope;
@@ -179,11 +167,7 @@ fn rigid_mode<D: DualNum<Primitive = f64> + Copy>(beam: &Beam<D>) -> Mode<D> {
     }
 }
 
-fn flexible_mode<D: DualNum<Primitive = f64> + Copy>(
-    beam: &Beam<D>,
-    lambda: D,
-    kappa: D,
-) -> Mode<D> {
+fn flexible_mode<D: DualNum<Primitive = f64> + Copy>(beam: &Beam<D>, lambda: D, kappa: D) -> Mode<D> {
     let (l, rho, a) = (beam.length, beam.mass_per_length, beam.hub_radius);
     let shape = coefficients(lambda, kappa);
     let at_root = raw_shape(lambda, &shape, D::from(0.0));
@@ -191,8 +175,7 @@ fn flexible_mode<D: DualNum<Primitive = f64> + Copy>(
     // ∫₀¹ φ̃² dξ = φ̃(1)²/4 + φ̃_ξ(0)φ̃_ξξ(0)/(4λ⁴), from d/dξ[3φφ‴ − φ′φ″ + ξ(λ⁴φ² − 2φ′φ‴ + φ″²)]
     // = 4λ⁴φ² and the boundary conditions; with φ̃_ξξ(0) = κ φ̃_ξ(0) both terms are ≥ 0.
     let slope_xi = at_root[1] * lambda;
-    let norm_sq =
-        at_tip[0] * at_tip[0] * 0.25 + kappa * slope_xi * slope_xi / (lambda.powi(4) * 4.0);
+    let norm_sq = at_tip[0] * at_tip[0] * 0.25 + kappa * slope_xi * slope_xi / (lambda.powi(4) * 4.0);
     let scale = (rho * l * norm_sq).sqrt().recip();
     let beta = lambda / l;
     let root_curvature = scale * at_root[2] * beta * beta;

@@ -4,13 +4,7 @@ use beam_modes::{Beam, Mode, modes};
 use num_dual::Dual64;
 
 const BASE: [f64; 5] = [1.19, 0.407, 0.475, 0.06, 0.22]; // L, EI, ρ, a, k
-const NAMES: [&str; 5] = [
-    "length",
-    "flexural_rigidity",
-    "mass_per_length",
-    "hub_radius",
-    "root_stiffness",
-];
+const NAMES: [&str; 5] = ["length", "flexural_rigidity", "mass_per_length", "hub_radius", "root_stiffness"];
 
 fn beam_with<D: Copy>(values: [D; 5]) -> Beam<D> {
     Beam {
@@ -23,13 +17,7 @@ fn beam_with<D: Copy>(values: [D; 5]) -> Beam<D> {
 }
 
 fn quantities<D: num_dual::DualNum<Primitive = f64> + Copy>(m: &Mode<D>) -> [D; 5] {
-    [
-        m.lambda,
-        m.omega,
-        m.participation,
-        m.root_slope,
-        m.root_curvature,
-    ]
+    [m.lambda, m.omega, m.participation, m.root_slope, m.root_curvature]
 }
 
 #[test]
@@ -38,9 +26,8 @@ fn dual_derivatives_match_central_differences() {
         let mut base = BASE;
         base[4] *= kappa_scale;
         for p in 0..5 {
-            let dual = beam_with(std::array::from_fn(|i| {
-                Dual64::new(base[i], if i == p { 1.0 } else { 0.0 })
-            }));
+            let dual =
+                beam_with(std::array::from_fn(|i| Dual64::new(base[i], if i == p { 1.0 } else { 0.0 })));
             let exact = modes(&dual, 4).unwrap();
             // Step 1e-6 relative: truncation ~1e-12, rounding ~1e-10 relative.
             let h = 1e-6 * base[p];
@@ -51,11 +38,8 @@ fn dual_derivatives_match_central_differences() {
             };
             let (plus, minus) = (shifted(1.0), shifted(-1.0));
             for mode in 0..4 {
-                let (e, qp, qm) = (
-                    quantities(&exact[mode]),
-                    quantities(&plus[mode]),
-                    quantities(&minus[mode]),
-                );
+                let (e, qp, qm) =
+                    (quantities(&exact[mode]), quantities(&plus[mode]), quantities(&minus[mode]));
                 for q in 0..5 {
                     let fd = (qp[q] - qm[q]) / (2.0 * h);
                     let scale = (e[q].re.abs() / base[p]).max(fd.abs()).max(1e-12);

@@ -3,13 +3,7 @@
 use beam_modes::{Beam, BeamError, modes};
 
 fn good() -> Beam<f64> {
-    Beam {
-        length: 1.0,
-        flexural_rigidity: 1.0,
-        mass_per_length: 1.0,
-        hub_radius: 0.1,
-        root_stiffness: 1.0,
-    }
+    Beam { length: 1.0, flexural_rigidity: 1.0, mass_per_length: 1.0, hub_radius: 0.1, root_stiffness: 1.0 }
 }
 
 #[test]
@@ -34,22 +28,10 @@ fn non_positive_properties_are_rejected() {
     }
     let mut b = good();
     b.root_stiffness = -1.0;
-    assert!(matches!(
-        modes(&b, 3),
-        Err(BeamError::InvalidProperty {
-            name: "root_stiffness",
-            ..
-        })
-    ));
+    assert!(matches!(modes(&b, 3), Err(BeamError::InvalidProperty { name: "root_stiffness", .. })));
     b = good();
     b.hub_radius = f64::INFINITY;
-    assert!(matches!(
-        modes(&b, 3),
-        Err(BeamError::InvalidProperty {
-            name: "hub_radius",
-            ..
-        })
-    ));
+    assert!(matches!(modes(&b, 3), Err(BeamError::InvalidProperty { name: "hub_radius", .. })));
 }
 
 #[test]

@@ -22,13 +22,7 @@ fn reference() -> Reference {
 
 /// A beam with L = EI = 1 so that κ = k.
 fn unit_beam(kappa: f64) -> Beam<f64> {
-    Beam {
-        length: 1.0,
-        flexural_rigidity: 1.0,
-        mass_per_length: 1.0,
-        hub_radius: 0.0,
-        root_stiffness: kappa,
-    }
+    Beam { length: 1.0, flexural_rigidity: 1.0, mass_per_length: 1.0, hub_radius: 0.0, root_stiffness: kappa }
 }
 
 #[test]
@@ -37,14 +31,8 @@ fn limits_match_published_roots_to_1e_10() {
     for j in 1..=8 {
         let p: f64 = r.pinned_free[j - 1].parse().unwrap();
         let c: f64 = r.clamped_free[j - 1].parse().unwrap();
-        assert!(
-            (pinned_free_root(j) - p).abs() < 1e-10 * p,
-            "pinned-free {j}"
-        );
-        assert!(
-            (clamped_free_root(j) - c).abs() < 1e-10 * c,
-            "clamped-free {j}"
-        );
+        assert!((pinned_free_root(j) - p).abs() < 1e-10 * p, "pinned-free {j}");
+        assert!((clamped_free_root(j) - c).abs() < 1e-10 * c, "clamped-free {j}");
     }
     // The values printed in textbooks (Blevins, Table 8-1), to their four decimals.
     for (j, v) in [3.9266, 7.0686, 10.2102].iter().enumerate() {
@@ -125,10 +113,7 @@ fn no_root_is_missed_or_duplicated() {
         }
         assert_eq!(count, n, "κ={kappa}: {count} sign changes for {n} modes");
         for w in m.windows(2) {
-            assert!(
-                w[1].lambda - w[0].lambda > 2.0,
-                "roots too close (duplicate?)"
-            );
+            assert!(w[1].lambda - w[0].lambda > 2.0, "roots too close (duplicate?)");
         }
     }
 }

@@ -78,19 +78,10 @@ fn boundary_conditions_hold() {
             let moment = b.flexural_rigidity * root[2] - b.root_stiffness * root[1];
             assert!(
                 moment.abs()
-                    < 1e-10 * b.flexural_rigidity * beta * beta * scale
-                        + 1e-10 * b.root_stiffness * scale
+                    < 1e-10 * b.flexural_rigidity * beta * beta * scale + 1e-10 * b.root_stiffness * scale
             );
-            assert!(
-                tip[2].abs() < 1e-10 * beta * beta * scale,
-                "φ″(L) = {}",
-                tip[2]
-            );
-            assert!(
-                tip[3].abs() < 1e-10 * beta.powi(3) * scale,
-                "φ‴(L) = {}",
-                tip[3]
-            );
+            assert!(tip[2].abs() < 1e-10 * beta * beta * scale, "φ″(L) = {}", tip[2]);
+            assert!(tip[3].abs() < 1e-10 * beta.powi(3) * scale, "φ‴(L) = {}", tip[3]);
         }
     }
 }
@@ -134,16 +125,7 @@ fn high_modes_are_evaluated_without_cancellation() {
     }
     let ratio = m[29].tip_deflection.abs() / amplitude;
     let kappa = b.root_stiffness * b.length / b.flexural_rigidity;
-    assert!(
-        (ratio - 2.0).abs() < kappa / m[29].lambda.powi(2),
-        "tip/amplitude = {ratio}"
-    );
-    let norm = integrate(
-        |x: f64| b.mass_per_length * m[29].shape(x)[0].powi(2),
-        0.0,
-        b.length,
-        200,
-        20,
-    );
+    assert!((ratio - 2.0).abs() < kappa / m[29].lambda.powi(2), "tip/amplitude = {ratio}");
+    let norm = integrate(|x: f64| b.mass_per_length * m[29].shape(x)[0].powi(2), 0.0, b.length, 200, 20);
     assert!((norm - 1.0).abs() < 1e-10);
 }

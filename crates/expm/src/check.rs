@@ -6,11 +6,7 @@ use faer::MatRef;
 /// Fails unless `a` is square.
 pub(crate) fn square(name: &'static str, a: MatRef<'_, f64>) -> Result<usize, ExpmError> {
     if a.nrows() != a.ncols() {
-        return Err(ExpmError::NotSquare {
-            name,
-            nrows: a.nrows(),
-            ncols: a.ncols(),
-        });
+        return Err(ExpmError::NotSquare { name, nrows: a.nrows(), ncols: a.ncols() });
     }
     Ok(a.nrows())
 }
@@ -40,12 +36,7 @@ pub(crate) fn finite(name: &'static str, a: MatRef<'_, f64>) -> Result<(), ExpmE
         for row in 0..a.nrows() {
             let value = a[(row, col)];
             if !value.is_finite() {
-                return Err(ExpmError::NonFinite {
-                    name,
-                    row,
-                    col,
-                    value,
-                });
+                return Err(ExpmError::NonFinite { name, row, col, value });
             }
         }
     }

@@ -65,11 +65,7 @@ fn exact_diagonals(x: &mut Mat<f64>, t: MatRef<'_, f64>, i: u32) {
         x[(k, k)] = (scale * t[(k, k)]).exp();
     }
     for k in 0..n.saturating_sub(1) {
-        let (l1, l2, t12) = (
-            scale * t[(k, k)],
-            scale * t[(k + 1, k + 1)],
-            scale * t[(k, k + 1)],
-        );
+        let (l1, l2, t12) = (scale * t[(k, k)], scale * t[(k + 1, k + 1)], scale * t[(k, k + 1)]);
         let mean = 0.5 * (l1 + l2);
         let half_gap = 0.5 * (l1 - l2);
         x[(k, k + 1)] = t12 * mean.exp() * sinch(half_gap);
@@ -79,17 +75,11 @@ fn exact_diagonals(x: &mut Mat<f64>, t: MatRef<'_, f64>, i: u32) {
 /// sinh(x)/x, by its Taylor series near zero where the quotient would cancel.
 fn sinch(x: f64) -> f64 {
     let x2 = x * x;
-    if x.abs() < 0.0135 {
-        1.0 + (x2 / 6.0) * (1.0 + (x2 / 20.0) * (1.0 + x2 / 42.0))
-    } else {
-        x.sinh() / x
-    }
+    if x.abs() < 0.0135 { 1.0 + (x2 / 6.0) * (1.0 + (x2 / 20.0) * (1.0 + x2 / 42.0)) } else { x.sinh() / x }
 }
 
 /// r_m = (V − U)⁻¹ (V + U), and the factorisation of V − U for later solves.
-pub(crate) fn pade_quotient(
-    parts: &pade::PadeParts,
-) -> (Mat<f64>, faer::linalg::solvers::PartialPivLu<f64>) {
+pub(crate) fn pade_quotient(parts: &pade::PadeParts) -> (Mat<f64>, faer::linalg::solvers::PartialPivLu<f64>) {
     let q = &parts.v - &parts.u;
     let p = &parts.v + &parts.u;
     let lu = q.partial_piv_lu();
@@ -97,16 +87,9 @@ pub(crate) fn pade_quotient(
 }
 
 /// Returns `m` if all its entries are finite, else [`ExpmError::Overflow`].
-pub(crate) fn overflow_check(
-    m: Mat<f64>,
-    a: MatRef<'_, f64>,
-    squarings: u32,
-) -> Result<Mat<f64>, ExpmError> {
+pub(crate) fn overflow_check(m: Mat<f64>, a: MatRef<'_, f64>, squarings: u32) -> Result<Mat<f64>, ExpmError> {
     if check::finite("result", m.as_ref()).is_err() {
-        return Err(ExpmError::Overflow {
-            norm: crate::norm1(a),
-            squarings,
-        });
+        return Err(ExpmError::Overflow { norm: crate::norm1(a), squarings });
     }
     Ok(m)
 }

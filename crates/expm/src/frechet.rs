@@ -54,14 +54,7 @@ impl ExpmFrechet {
         }
         let last = squares.pop().expect("at least R_0");
         squares.push(overflow_check(last, a, scaled.squarings)?);
-        Ok(Self {
-            n,
-            norm: crate::norm1(a),
-            scaled,
-            parts,
-            lu,
-            squares,
-        })
+        Ok(Self { n, norm: crate::norm1(a), scaled, parts, lu, squares })
     }
 
     /// The order of A.
@@ -114,28 +107,17 @@ impl ExpmFrechet {
             Some((z1, z2)) => {
                 let lz1 = combine(&[(b[13], &m[3]), (b[11], &m[2]), (b[9], &m[1])]);
                 let lz2 = combine(&[(b[12], &m[3]), (b[10], &m[2]), (b[8], &m[1])]);
-                let lw = &p[3] * &lz1
-                    + &m[3] * z1
-                    + combine(&[(b[7], &m[3]), (b[5], &m[2]), (b[3], &m[1])]);
+                let lw = &p[3] * &lz1 + &m[3] * z1 + combine(&[(b[7], &m[3]), (b[5], &m[2]), (b[3], &m[1])]);
                 let lu_u = x * &lw + &f * &self.parts.w;
-                let lu_v = &p[3] * &lz2
-                    + &m[3] * z2
-                    + combine(&[(b[6], &m[3]), (b[4], &m[2]), (b[2], &m[1])]);
+                let lu_v =
+                    &p[3] * &lz2 + &m[3] * z2 + combine(&[(b[6], &m[3]), (b[4], &m[2]), (b[2], &m[1])]);
                 (lu_u, lu_v)
             }
             None => {
-                let odd: Vec<(f64, &Mat<f64>)> = m
-                    .iter()
-                    .enumerate()
-                    .skip(1)
-                    .map(|(k, mk)| (b[2 * k + 1], mk))
-                    .collect();
-                let even: Vec<(f64, &Mat<f64>)> = m
-                    .iter()
-                    .enumerate()
-                    .skip(1)
-                    .map(|(k, mk)| (b[2 * k], mk))
-                    .collect();
+                let odd: Vec<(f64, &Mat<f64>)> =
+                    m.iter().enumerate().skip(1).map(|(k, mk)| (b[2 * k + 1], mk)).collect();
+                let even: Vec<(f64, &Mat<f64>)> =
+                    m.iter().enumerate().skip(1).map(|(k, mk)| (b[2 * k], mk)).collect();
                 let lu_u = x * combine(&odd) + &f * &self.parts.w;
                 (lu_u, combine(&even))
             }
@@ -146,10 +128,7 @@ impl ExpmFrechet {
             l = r * &l + &l * r;
         }
         if check::finite("result", l.as_ref()).is_err() {
-            return Err(ExpmError::Overflow {
-                norm: self.norm,
-                squarings: s.squarings,
-            });
+            return Err(ExpmError::Overflow { norm: self.norm, squarings: s.squarings });
         }
         Ok(l)
     }
@@ -159,10 +138,7 @@ impl ExpmFrechet {
 ///
 /// # Errors
 /// As [`ExpmFrechet::new`] and [`ExpmFrechet::derivative`].
-pub fn expm_frechet(
-    a: MatRef<'_, f64>,
-    e: MatRef<'_, f64>,
-) -> Result<(Mat<f64>, Mat<f64>), ExpmError> {
+pub fn expm_frechet(a: MatRef<'_, f64>, e: MatRef<'_, f64>) -> Result<(Mat<f64>, Mat<f64>), ExpmError> {
     let work = ExpmFrechet::new(a)?;
     let l = work.derivative(e)?;
     Ok((work.exp().to_owned(), l))
@@ -177,9 +153,6 @@ pub fn expm_frechet_many(
     directions: &[MatRef<'_, f64>],
 ) -> Result<(Mat<f64>, Vec<Mat<f64>>), ExpmError> {
     let work = ExpmFrechet::new(a)?;
-    let ls = directions
-        .iter()
-        .map(|e| work.derivative(*e))
-        .collect::<Result<Vec<_>, _>>()?;
+    let ls = directions.iter().map(|e| work.derivative(*e)).collect::<Result<Vec<_>, _>>()?;
     Ok((work.exp().to_owned(), ls))
 }

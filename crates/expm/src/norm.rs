@@ -8,9 +8,7 @@ use faer::MatRef;
 
 /// Induced one-norm: the largest absolute column sum.
 pub fn norm1(a: MatRef<'_, f64>) -> f64 {
-    (0..a.ncols())
-        .map(|j| (0..a.nrows()).map(|i| a[(i, j)].abs()).sum::<f64>())
-        .fold(0.0, f64::max)
+    (0..a.ncols()).map(|j| (0..a.nrows()).map(|i| a[(i, j)].abs()).sum::<f64>()).fold(0.0, f64::max)
 }
 
 /// A linear operator known only through y = B x and y = Bᵀ x.
@@ -35,11 +33,8 @@ impl Operator for Product<'_> {
         let n = self.dim();
         let mut cur = x.to_vec();
         let mut next = vec![0.0; n];
-        let order: Vec<&MatRef<'_, f64>> = if transpose {
-            self.factors.iter().collect()
-        } else {
-            self.factors.iter().rev().collect()
-        };
+        let order: Vec<&MatRef<'_, f64>> =
+            if transpose { self.factors.iter().collect() } else { self.factors.iter().rev().collect() };
         for f in order {
             for v in next.iter_mut() {
                 *v = 0.0;
@@ -78,10 +73,7 @@ pub(crate) fn estimate_norm1(op: &dyn Operator) -> f64 {
             break;
         }
         estimate = est;
-        let xi: Vec<f64> = y
-            .iter()
-            .map(|v| if *v >= 0.0 { 1.0 } else { -1.0 })
-            .collect();
+        let xi: Vec<f64> = y.iter().map(|v| if *v >= 0.0 { 1.0 } else { -1.0 }).collect();
         op.apply(&xi, &mut z, true);
         let (j, zmax) = z
             .iter()
@@ -109,16 +101,10 @@ pub(crate) fn estimate_norm1(op: &dyn Operator) -> f64 {
 
 /// Estimate of ‖F₁ F₂ ⋯ F_q‖₁ without forming the product.
 pub(crate) fn estimate_product_norm1(factors: &[MatRef<'_, f64>]) -> f64 {
-    estimate_norm1(&Product {
-        factors: factors.to_vec(),
-        absolute: false,
-    })
+    estimate_norm1(&Product { factors: factors.to_vec(), absolute: false })
 }
 
 /// Estimate of ‖ |A|ᵖ ‖₁ (entrywise absolute value, then the p-th power).
 pub(crate) fn estimate_abs_power_norm1(a: MatRef<'_, f64>, p: usize) -> f64 {
-    estimate_norm1(&Product {
-        factors: vec![a; p],
-        absolute: true,
-    })
+    estimate_norm1(&Product { factors: vec![a; p], absolute: true })
 }

@@ -24,9 +24,7 @@ pub(crate) fn coefficients(m: usize) -> &'static [f64] {
     match m {
         3 => &[120.0, 60.0, 12.0, 1.0],
         5 => &[30240.0, 15120.0, 3360.0, 420.0, 30.0, 1.0],
-        7 => &[
-            17297280.0, 8648640.0, 1995840.0, 277200.0, 25200.0, 1512.0, 56.0, 1.0,
-        ],
+        7 => &[17297280.0, 8648640.0, 1995840.0, 277200.0, 25200.0, 1512.0, 56.0, 1.0],
         9 => &[
             17643225600.0,
             8821612800.0,
@@ -111,11 +109,7 @@ fn extra_squarings(x: MatRef<'_, f64>, m: usize) -> u32 {
         return 0;
     }
     let value = ((alpha / UNIT_ROUNDOFF).log2() / (2 * m) as f64).ceil();
-    if value.is_finite() && value > 0.0 {
-        value as u32
-    } else {
-        0
-    }
+    if value.is_finite() && value > 0.0 { value as u32 } else { 0 }
 }
 
 /// Above this one-norm, A is halved before its powers are formed (A⁸ would overflow).
@@ -166,19 +160,12 @@ pub(crate) fn choose(a: MatRef<'_, f64>, target: Target) -> Scaled {
                 scale_in_place(p, scale.powi(2 * k as i32));
             }
         }
-        Scaled {
-            degree,
-            squarings,
-            scale,
-            x,
-            powers,
-        }
+        Scaled { degree, squarings, scale, x, powers }
     };
     let identity = Mat::<f64>::identity(n, n);
     let a2 = a * a;
     let d4_estimate = estimate_product_norm1(&[a2.as_ref(), a2.as_ref()]).powf(0.25);
-    let d6_estimate =
-        estimate_product_norm1(&[a2.as_ref(), a2.as_ref(), a2.as_ref()]).powf(1.0 / 6.0);
+    let d6_estimate = estimate_product_norm1(&[a2.as_ref(), a2.as_ref(), a2.as_ref()]).powf(1.0 / 6.0);
     let eta1 = d4_estimate.max(d6_estimate);
     if eta1 <= target.threshold(3) && extra_squarings(a, 3) == 0 {
         return finish(3, 0, vec![identity, a2]);
@@ -203,11 +190,8 @@ pub(crate) fn choose(a: MatRef<'_, f64>, target: Target) -> Scaled {
     let d10 = estimate_product_norm1(&[a4.as_ref(), a6.as_ref()]).powf(0.1);
     let eta4 = d8.max(d10);
     let eta5 = eta3.min(eta4);
-    let mut squarings = if eta5 > 0.0 {
-        (eta5 / target.threshold(13)).log2().ceil().max(0.0) as u32
-    } else {
-        0
-    };
+    let mut squarings =
+        if eta5 > 0.0 { (eta5 / target.threshold(13)).log2().ceil().max(0.0) as u32 } else { 0 };
     let mut scaled = a.to_owned();
     scale_in_place(&mut scaled, 0.5f64.powi(squarings as i32));
     squarings += extra_squarings(scaled.as_ref(), 13);
@@ -248,25 +232,13 @@ pub(crate) fn evaluate(s: &Scaled) -> PadeParts {
     if s.degree == 13 {
         let z1 = combine(&[(b[13], &p[3]), (b[11], &p[2]), (b[9], &p[1])]);
         let z2 = combine(&[(b[12], &p[3]), (b[10], &p[2]), (b[8], &p[1])]);
-        let w =
-            &p[3] * &z1 + combine(&[(b[7], &p[3]), (b[5], &p[2]), (b[3], &p[1]), (b[1], &p[0])]);
-        let v =
-            &p[3] * &z2 + combine(&[(b[6], &p[3]), (b[4], &p[2]), (b[2], &p[1]), (b[0], &p[0])]);
+        let w = &p[3] * &z1 + combine(&[(b[7], &p[3]), (b[5], &p[2]), (b[3], &p[1]), (b[1], &p[0])]);
+        let v = &p[3] * &z2 + combine(&[(b[6], &p[3]), (b[4], &p[2]), (b[2], &p[1]), (b[0], &p[0])]);
         let u = &s.x * &w;
-        PadeParts {
-            u,
-            v,
-            w,
-            z: Some((z1, z2)),
-        }
+        PadeParts { u, v, w, z: Some((z1, z2)) }
     } else {
-        let odd: Vec<(f64, &Mat<f64>)> = p
-            .iter()
-            .enumerate()
-            .map(|(k, m)| (b[2 * k + 1], m))
-            .collect();
-        let even: Vec<(f64, &Mat<f64>)> =
-            p.iter().enumerate().map(|(k, m)| (b[2 * k], m)).collect();
+        let odd: Vec<(f64, &Mat<f64>)> = p.iter().enumerate().map(|(k, m)| (b[2 * k + 1], m)).collect();
+        let even: Vec<(f64, &Mat<f64>)> = p.iter().enumerate().map(|(k, m)| (b[2 * k], m)).collect();
         let w = combine(&odd);
         let v = combine(&even);
         let u = &s.x * &w;

@@ -62,6 +62,8 @@ pub struct SensitivityPropagator {
     /// (j·N) × N: Ψ_1 on top of Ψ_2 on top of …
     psi: Mat<f64>,
     c: Mat<f64>,
+    /// (j·p) × N: ∂C/∂P_1 on top of ∂C/∂P_2 … when C depends on the parameters.
+    dc: Option<Mat<f64>>,
 }
 
 impl SensitivityPropagator {
@@ -98,6 +100,9 @@ impl SensitivityPropagator {
         let work = ExpmFrechet::new(ah.as_ref())?;
         let mut psi = Mat::zeros(da.len() * n, n);
         for (i, d) in da.iter().enumerate() {
+            if d.norm_max() == 0.0 {
+                continue; // L(Ah, 0) = 0: e.g. a parameter that only enters x(0)
+            }
             let dh = d.to_owned() * faer::Scale(h);
             let l = work.derivative(dh.as_ref())?;
             psi.as_mut().submatrix_mut(i * n, 0, n, n).copy_from(&l);
@@ -110,7 +115,34 @@ impl SensitivityPropagator {
             phi: work.exp().to_owned(),
             psi,
             c: c.to_owned(),
+            dc: None,
         })
+    }
+
+    /// Adds output-matrix derivatives ∂C/∂P_i (each p × N), for models whose C depends on
+    /// the parameters: then ∂y_k/∂P_i = C s_{i,k} + (∂C/∂P_i) x_k (paper Eq. 6).
+    ///
+    /// # Errors
+    /// Shape and finiteness errors of `dc`.
+    pub fn with_output_derivatives(mut self, dc: &[MatRef<'_, f64>]) -> Result<Self, ExpmError> {
+        let (n, p) = (self.n_states, self.n_outputs);
+        if dc.len() != self.n_params {
+            return Err(ExpmError::ShapeMismatch {
+                name: "dc",
+                nrows: dc.len(),
+                ncols: 0,
+                expected_rows: self.n_params,
+                expected_cols: 0,
+            });
+        }
+        let mut stack = Mat::zeros(self.n_params * p, n);
+        for (i, d) in dc.iter().enumerate() {
+            check::shape("dc", *d, p, n)?;
+            check::finite("dc", *d)?;
+            stack.as_mut().submatrix_mut(i * p, 0, p, n).copy_from(d);
+        }
+        self.dc = Some(stack);
+        Ok(self)
     }
 
     /// Number of states N.
@@ -135,9 +167,7 @@ impl SensitivityPropagator {
     }
     /// Ψ_i = L(Ah, h ∂A/∂P_i) = ∂Φ/∂P_i.
     pub fn psi(&self, i: usize) -> MatRef<'_, f64> {
-        self.psi
-            .as_ref()
-            .submatrix(i * self.n_states, 0, self.n_states, self.n_states)
+        self.psi.as_ref().submatrix(i * self.n_states, 0, self.n_states, self.n_states)
     }
 
     /// Propagates from x(0) (and ∂x(0)/∂P, N×j, if it depends on the parameters) for
@@ -173,53 +203,35 @@ impl SensitivityPropagator {
         check::finite("x0", x0m)?;
         let k_samples = out.outputs.nrows();
         check::shape("outputs", out.outputs.as_ref(), k_samples, p)?;
-        check::shape(
-            "sensitivities",
-            out.sensitivities.as_ref(),
-            k_samples * p,
-            j,
-        )?;
+        check::shape("sensitivities", out.sensitivities.as_ref(), k_samples * p, j)?;
         let mut block = Mat::<f64>::zeros(n, j + 1);
         let mut next = Mat::<f64>::zeros(n, j + 1);
         let mut psi_x = Mat::<f64>::zeros(j * n, 1);
         let mut y = Mat::<f64>::zeros(p, j + 1);
+        let mut dc_x = Mat::<f64>::zeros(if self.dc.is_some() { j * p } else { 0 }, 1);
         block.col_mut(0).copy_from(x0m.col(0));
         if let Some(d) = dx0 {
             check::shape("dx0", d, n, j)?;
             check::finite("dx0", d)?;
             block.as_mut().submatrix_mut(0, 1, n, j).copy_from(d);
         }
-        let par = if n >= 192 {
-            faer::get_global_parallelism()
-        } else {
-            Par::Seq
-        };
+        let par = if n >= 192 { faer::get_global_parallelism() } else { Par::Seq };
         for k in 0..k_samples {
-            matmul(
-                y.as_mut(),
-                Accum::Replace,
-                self.c.as_ref(),
-                block.as_ref(),
-                1.0,
-                Par::Seq,
-            );
-            store(
-                y.as_ref(),
-                k,
-                out.outputs.as_mut(),
-                out.sensitivities.as_mut(),
-            );
+            matmul(y.as_mut(), Accum::Replace, self.c.as_ref(), block.as_ref(), 1.0, Par::Seq);
+            if let Some(dc) = &self.dc {
+                let x = block.as_ref().col(0).as_mat();
+                matmul(dc_x.as_mut(), Accum::Replace, dc.as_ref(), x, 1.0, Par::Seq);
+                for i in 0..j {
+                    for o in 0..p {
+                        y[(o, i + 1)] += dc_x[(i * p + o, 0)];
+                    }
+                }
+            }
+            store(y.as_ref(), k, out.outputs.as_mut(), out.sensitivities.as_mut());
             if k + 1 == k_samples {
                 break;
             }
-            matmul(
-                next.as_mut(),
-                Accum::Replace,
-                self.phi.as_ref(),
-                block.as_ref(),
-                1.0,
-                par,
-            );
+            matmul(next.as_mut(), Accum::Replace, self.phi.as_ref(), block.as_ref(), 1.0, par);
             if j > 0 {
                 matmul(
                     psi_x.as_mut(),

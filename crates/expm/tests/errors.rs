@@ -6,66 +6,33 @@ use faer::{Mat, mat};
 #[test]
 fn non_square_is_rejected() {
     let a = Mat::<f64>::zeros(2, 3);
-    assert!(matches!(
-        expm::expm(a.as_ref()),
-        Err(ExpmError::NotSquare {
-            nrows: 2,
-            ncols: 3,
-            ..
-        })
-    ));
-    assert!(matches!(
-        expm::ExpmFrechet::new(a.as_ref()),
-        Err(ExpmError::NotSquare { .. })
-    ));
+    assert!(matches!(expm::expm(a.as_ref()), Err(ExpmError::NotSquare { nrows: 2, ncols: 3, .. })));
+    assert!(matches!(expm::ExpmFrechet::new(a.as_ref()), Err(ExpmError::NotSquare { .. })));
 }
 
 #[test]
 fn nan_and_infinity_are_rejected_with_position() {
     let a = mat![[0.0, 1.0], [f64::NAN, 0.0]];
-    assert!(matches!(
-        expm::expm(a.as_ref()),
-        Err(ExpmError::NonFinite { row: 1, col: 0, .. })
-    ));
+    assert!(matches!(expm::expm(a.as_ref()), Err(ExpmError::NonFinite { row: 1, col: 0, .. })));
     let good = mat![[0.0, 1.0], [0.0, 0.0]];
     let bad_e = mat![[0.0, f64::INFINITY], [0.0, 0.0]];
     let err = expm::expm_frechet(good.as_ref(), bad_e.as_ref()).unwrap_err();
-    assert!(
-        matches!(
-            err,
-            ExpmError::NonFinite {
-                name: "e",
-                row: 0,
-                col: 1,
-                ..
-            }
-        ),
-        "{err}"
-    );
+    assert!(matches!(err, ExpmError::NonFinite { name: "e", row: 0, col: 1, .. }), "{err}");
 }
 
 #[test]
 fn mismatched_direction_is_rejected() {
     let a = Mat::<f64>::identity(3, 3);
     let e = Mat::<f64>::zeros(2, 2);
-    assert!(matches!(
-        expm::expm_frechet(a.as_ref(), e.as_ref()),
-        Err(ExpmError::ShapeMismatch { .. })
-    ));
+    assert!(matches!(expm::expm_frechet(a.as_ref(), e.as_ref()), Err(ExpmError::ShapeMismatch { .. })));
 }
 
 #[test]
 fn overflow_is_reported() {
     let a = mat![[800.0, 0.0], [0.0, 1.0]];
-    assert!(matches!(
-        expm::expm(a.as_ref()),
-        Err(ExpmError::Overflow { .. })
-    ));
+    assert!(matches!(expm::expm(a.as_ref()), Err(ExpmError::Overflow { .. })));
     let huge = mat![[1e200, 1e200], [-1e200, 1e200]];
-    assert!(matches!(
-        expm::expm(huge.as_ref()),
-        Err(ExpmError::Overflow { .. })
-    ));
+    assert!(matches!(expm::expm(huge.as_ref()), Err(ExpmError::Overflow { .. })));
 }
 
 #[test]
@@ -90,12 +57,6 @@ fn propagator_arguments_are_checked() {
     let wide_c = Mat::<f64>::zeros(1, 3);
     assert!(expm::SensitivityPropagator::new(a.as_ref(), &[], wide_c.as_ref(), 0.1).is_err());
     let prop = expm::SensitivityPropagator::new(a.as_ref(), &[], c.as_ref(), 0.1).unwrap();
-    assert!(matches!(
-        prop.propagate(&[1.0], None, 3),
-        Err(ExpmError::ShapeMismatch { name: "x0", .. })
-    ));
-    assert!(matches!(
-        prop.propagate(&[1.0, f64::NAN], None, 3),
-        Err(ExpmError::NonFinite { .. })
-    ));
+    assert!(matches!(prop.propagate(&[1.0], None, 3), Err(ExpmError::ShapeMismatch { name: "x0", .. })));
+    assert!(matches!(prop.propagate(&[1.0, f64::NAN], None, 3), Err(ExpmError::NonFinite { .. })));
 }

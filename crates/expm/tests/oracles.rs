@@ -20,11 +20,7 @@ fn dual_oracle(a: &Mat<f64>, e: &Mat<f64>) -> (Mat<f64>, Mat<f64>) {
     let n = a.nrows();
     let m = DMatrix::<Dual64>::from_fn(n, n, |i, j| Dual64::new(a[(i, j)], e[(i, j)]));
     let norm = expm::norm1(a.as_ref());
-    let s = if norm > 0.5 {
-        (norm / 0.5).log2().ceil() as i32
-    } else {
-        0
-    };
+    let s = if norm > 0.5 { (norm / 0.5).log2().ceil() as i32 } else { 0 };
     let scaled = m * Dual64::from(0.5f64.powi(s));
     let mut term = DMatrix::<Dual64>::identity(n, n);
     let mut x = term.clone();
@@ -35,10 +31,7 @@ fn dual_oracle(a: &Mat<f64>, e: &Mat<f64>) -> (Mat<f64>, Mat<f64>) {
     for _ in 0..s {
         x = &x * &x;
     }
-    (
-        Mat::from_fn(n, n, |i, j| x[(i, j)].re),
-        Mat::from_fn(n, n, |i, j| x[(i, j)].eps),
-    )
+    (Mat::from_fn(n, n, |i, j| x[(i, j)].re), Mat::from_fn(n, n, |i, j| x[(i, j)].eps))
 }
 
 /// The top-right block of exp([[A, E], [0, A]]) (Eq. 9 in block form), via our own expm.
@@ -48,11 +41,7 @@ fn block_oracle(a: &Mat<f64>, e: &Mat<f64>) -> Mat<f64> {
     big.as_mut().submatrix_mut(0, 0, n, n).copy_from(a);
     big.as_mut().submatrix_mut(n, n, n, n).copy_from(a);
     big.as_mut().submatrix_mut(0, n, n, n).copy_from(e);
-    expm::expm(big.as_ref())
-        .unwrap()
-        .as_ref()
-        .submatrix(0, n, n, n)
-        .to_owned()
+    expm::expm(big.as_ref()).unwrap().as_ref().submatrix(0, n, n, n).to_owned()
 }
 
 /// Tolerance for the cross-checks on well-conditioned seeded random matrices (κ ≈ 5–10,
@@ -66,16 +55,8 @@ fn frechet_agrees_with_dual_number_exponential() {
         let e = test_problems::gaussian(n, n, seed + 100);
         let (x, l) = expm::expm_frechet(a.as_ref(), e.as_ref()).unwrap();
         let (x_dual, l_dual) = dual_oracle(&a, &e);
-        assert!(
-            rel(&x, &x_dual) < CROSS_TOL,
-            "n={n}: e^A differs {}",
-            rel(&x, &x_dual)
-        );
-        assert!(
-            rel(&l, &l_dual) < CROSS_TOL,
-            "n={n}: L differs {}",
-            rel(&l, &l_dual)
-        );
+        assert!(rel(&x, &x_dual) < CROSS_TOL, "n={n}: e^A differs {}", rel(&x, &x_dual));
+        assert!(rel(&l, &l_dual) < CROSS_TOL, "n={n}: L differs {}", rel(&l, &l_dual));
     }
 }
 
@@ -86,20 +67,14 @@ fn frechet_agrees_with_block_form() {
         let e = test_problems::gaussian(n, n, seed + 100);
         let (_, l) = expm::expm_frechet(a.as_ref(), e.as_ref()).unwrap();
         let l_block = block_oracle(&a, &e);
-        assert!(
-            rel(&l, &l_block) < CROSS_TOL,
-            "n={n}: {}",
-            rel(&l, &l_block)
-        );
+        assert!(rel(&l, &l_block) < CROSS_TOL, "n={n}: {}", rel(&l, &l_block));
     }
 }
 
 #[test]
 fn many_directions_equal_single_directions() {
     let a = test_problems::random_stable(10, 7) * faer::Scale(5.0);
-    let es: Vec<Mat<f64>> = (0..4)
-        .map(|k| test_problems::gaussian(10, 10, 50 + k))
-        .collect();
+    let es: Vec<Mat<f64>> = (0..4).map(|k| test_problems::gaussian(10, 10, 50 + k)).collect();
     let refs: Vec<_> = es.iter().map(|e| e.as_ref()).collect();
     let (x, ls) = expm::expm_frechet_many(a.as_ref(), &refs).unwrap();
     for (e, l) in es.iter().zip(&ls) {

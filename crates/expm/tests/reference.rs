@@ -45,9 +45,7 @@ fn rel_err(x: &Mat<f64>, reference: &Mat<f64>) -> f64 {
 
 fn cases() -> Vec<Case> {
     let text = include_str!("reference/cases.json");
-    serde_json::from_str::<File>(text)
-        .expect("reference file parses")
-        .cases
+    serde_json::from_str::<File>(text).expect("reference file parses").cases
 }
 
 #[test]
@@ -80,15 +78,9 @@ fn expm_matches_high_precision_reference() {
         let x = expm::expm(a.as_ref()).unwrap();
         let err = rel_err(&x, &reference);
         let bound = 20.0 * U * case.kappa_exp.max(1.0);
-        report += &format!(
-            "{:28} err {err:.2e} bound {bound:.2e} scipy {:.2e}\n",
-            case.name, case.scipy_exp_err
-        );
-        assert!(
-            err <= bound,
-            "{}: expm error {err:e} > 20uκ = {bound:e}",
-            case.name
-        );
+        report +=
+            &format!("{:28} err {err:.2e} bound {bound:.2e} scipy {:.2e}\n", case.name, case.scipy_exp_err);
+        assert!(err <= bound, "{}: expm error {err:e} > 20uκ = {bound:e}", case.name);
         assert!(
             err <= 2.0 * case.scipy_exp_err + U * case.kappa_exp,
             "{}: expm error {err:e} worse than scipy's {:e}",
@@ -118,11 +110,7 @@ fn frechet_matches_high_precision_reference() {
             "{}: e^A from expm_frechet {exp_err:e}",
             case.name
         );
-        assert!(
-            err <= bound,
-            "{}: L error {err:e} > 20uκ = {bound:e}",
-            case.name
-        );
+        assert!(err <= bound, "{}: L error {err:e} > 20uκ = {bound:e}", case.name);
         assert!(
             err <= 2.0 * case.scipy_frechet_err + U * case.kappa_frechet,
             "{}: L error {err:e} worse than scipy's {:e}",

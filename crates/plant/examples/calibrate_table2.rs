@@ -13,15 +13,7 @@ use plant::{ModeKind, ParamId, SlewingModel};
 pub const TABLE2_MODEL_ROWS: [(&str, f64, f64, f64, f64, f64, f64); 3] = [
     ("Initial", 0.0528, 8.0, 0.1520, 0.0632, 1.72, 0.0231),
     ("Run 1 final", 0.2048, 8.0, 0.1519, 0.2448, 1.724, 0.0246),
-    (
-        "Run 2 final",
-        0.1299,
-        6.5753,
-        0.1377,
-        0.1773,
-        1.7249,
-        0.0242,
-    ),
+    ("Run 2 final", 0.1299, 6.5753, 0.1377, 0.1773, 1.7249, 0.0242),
 ];
 
 fn table(model: &SlewingModel, cv: f64, kp: f64) -> (f64, f64, f64, f64) {
@@ -30,16 +22,8 @@ fn table(model: &SlewingModel, cv: f64, kp: f64) -> (f64, f64, f64, f64) {
     m.set(ParamId::PositionGain, kp).unwrap();
     let rows = m.modal().unwrap();
     let servo = rows.iter().find(|r| r.kind == ModeKind::Servo).unwrap();
-    let flex = rows
-        .iter()
-        .find(|r| r.kind == ModeKind::Flexible(1))
-        .unwrap();
-    (
-        servo.frequency_hz,
-        servo.damping_ratio,
-        flex.frequency_hz,
-        flex.damping_ratio,
-    )
+    let flex = rows.iter().find(|r| r.kind == ModeKind::Flexible(1)).unwrap();
+    (servo.frequency_hz, servo.damping_ratio, flex.frequency_hz, flex.damping_ratio)
 }
 
 fn residuals(model: &SlewingModel, rho: f64, gain: f64) -> Vec<f64> {
@@ -56,9 +40,7 @@ fn residuals(model: &SlewingModel, rho: f64, gain: f64) -> Vec<f64> {
 }
 
 fn main() {
-    let path = std::env::args()
-        .nth(1)
-        .unwrap_or_else(|| "fixtures/slewing.ron".into());
+    let path = std::env::args().nth(1).unwrap_or_else(|| "fixtures/slewing.ron".into());
     let model = SlewingModel::load(std::path::Path::new(&path)).expect("model file loads");
     let mut p = [0.475, 1.0]; // a bare 3 in × 1/32 in steel strip, unity amplifier gain
     let mut mu = 1e-2;
@@ -72,10 +54,7 @@ fn main() {
             plus[k] += h;
             let mut minus = p;
             minus[k] -= h;
-            let (rp, rm) = (
-                residuals(&model, plus[0], plus[1]),
-                residuals(&model, minus[0], minus[1]),
-            );
+            let (rp, rm) = (residuals(&model, plus[0], plus[1]), residuals(&model, minus[0], minus[1]));
             for i in 0..r.len() {
                 jac[i][k] = (rp[i] - rm[i]) / (2.0 * h);
             }
@@ -94,10 +73,7 @@ fn main() {
         let m00 = jtj[0][0] * (1.0 + mu);
         let m11 = jtj[1][1] * (1.0 + mu);
         let det = m00 * m11 - jtj[0][1] * jtj[1][0];
-        let step = [
-            (-jtr[0] * m11 + jtr[1] * jtj[0][1]) / det,
-            (-jtr[1] * m00 + jtr[0] * jtj[1][0]) / det,
-        ];
+        let step = [(-jtr[0] * m11 + jtr[1] * jtj[0][1]) / det, (-jtr[1] * m00 + jtr[0] * jtj[1][0]) / det];
         let trial = [p[0] + step[0], p[1] + step[1]];
         let rt = residuals(&model, trial[0], trial[1]);
         if cost(&rt) < cost(&r) {
@@ -113,10 +89,7 @@ fn main() {
             mu *= 10.0;
         }
     }
-    println!(
-        "calibrated: mass_per_length = {:.4} kg/m, amplifier_gain = {:.4}",
-        p[0], p[1]
-    );
+    println!("calibrated: mass_per_length = {:.4} kg/m, amplifier_gain = {:.4}", p[0], p[1]);
     let mut m = model.clone();
     m.set(ParamId::MassPerLength, p[0]).unwrap();
     m.set(ParamId::AmplifierGain, p[1]).unwrap();

@@ -50,10 +50,7 @@ pub fn second_order<D: Scalar>(c: &Constants<D>) -> Result<SecondOrder<D>, Plant
         hub_radius: c.hub_radius,
         root_stiffness: ks,
     };
-    let modes: Vec<Mode<D>> = beam_modes::modes(&beam, n + 1)?
-        .into_iter()
-        .skip(1)
-        .collect();
+    let modes: Vec<Mode<D>> = beam_modes::modes(&beam, n + 1)?.into_iter().skip(1).collect();
     let (a, l, rho) = (c.hub_radius, c.length, c.mass_per_length);
     // ∫₀ᴸ ρ (a + x)² dx = ρ((a + L)³ − a³)/3
     let beam_inertia = rho * (DualNum::powi(&(a + l), 3) - DualNum::powi(&a, 3)) / D::from(3.0);
@@ -79,14 +76,7 @@ pub fn second_order<D: Scalar>(c: &Constants<D>) -> Result<SecondOrder<D>, Plant
         k[(r, 0)] = ks * mode.root_slope;
         b[r] = ks * mode.root_slope;
     }
-    Ok(SecondOrder {
-        m,
-        d,
-        k,
-        b,
-        modes,
-        servo_stiffness: ks,
-    })
+    Ok(SecondOrder { m, d, k, b, modes, servo_stiffness: ks })
 }
 
 /// A = [[0, I], [−M⁻¹K, −M⁻¹D]], by one LU factorisation of M and two solves (no inverse).

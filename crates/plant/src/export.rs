@@ -6,9 +6,7 @@ use serde_json::{Value, json};
 
 fn rows(m: &Mat<f64>) -> Value {
     Value::Array(
-        (0..m.nrows())
-            .map(|i| json!((0..m.ncols()).map(|j| m[(i, j)]).collect::<Vec<_>>()))
-            .collect(),
+        (0..m.nrows()).map(|i| json!((0..m.ncols()).map(|j| m[(i, j)]).collect::<Vec<_>>())).collect(),
     )
 }
 

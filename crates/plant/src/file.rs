@@ -142,14 +142,12 @@ impl ModelFile {
         let constants = self.constants();
         for id in ParamId::all(self.n_modes()) {
             let value = constants.get(id);
-            id.check(value)
-                .map_err(|req| invalid(&id.field_path(), value, req))?;
+            id.check(value).map_err(|req| invalid(&id.field_path(), value, req))?;
         }
         let ic = &self.initial_condition;
-        for (path, value) in [
-            ("initial_condition.hub_angle", ic.hub_angle),
-            ("initial_condition.hub_rate", ic.hub_rate),
-        ] {
+        for (path, value) in
+            [("initial_condition.hub_angle", ic.hub_angle), ("initial_condition.hub_rate", ic.hub_rate)]
+        {
             if !value.is_finite() {
                 return Err(invalid(path, value, "must be finite".into()));
             }
@@ -159,11 +157,7 @@ impl ModelFile {
         }
         for (i, s) in self.outputs.iter().enumerate() {
             if self.outputs[..i].contains(s) {
-                return Err(invalid(
-                    "outputs",
-                    i as f64,
-                    format!("sensor {s:?} is listed twice"),
-                ));
+                return Err(invalid("outputs", i as f64, format!("sensor {s:?} is listed twice")));
             }
         }
         for name in self.free.iter().chain(self.bounds.keys()) {
@@ -171,11 +165,7 @@ impl ModelFile {
         }
         for (name, (lo, hi)) in &self.bounds {
             if lo.partial_cmp(hi) != Some(std::cmp::Ordering::Less) {
-                return Err(invalid(
-                    "bounds",
-                    *lo,
-                    format!("bounds of `{name}` must have lower < upper"),
-                ));
+                return Err(invalid("bounds", *lo, format!("bounds of `{name}` must have lower < upper")));
             }
         }
         Ok(())
@@ -221,9 +211,7 @@ impl ModelFile {
 
     /// The file as pretty RON text.
     pub fn to_ron(&self) -> String {
-        let config = ron::ser::PrettyConfig::new()
-            .depth_limit(3)
-            .struct_names(false);
+        let config = ron::ser::PrettyConfig::new().depth_limit(3).struct_names(false);
         ron::ser::to_string_pretty(self, config).expect("a model file always serialises")
     }
 }

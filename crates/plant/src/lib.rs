@@ -42,9 +42,7 @@ mod params;
 mod sensors;
 
 pub use error::PlantError;
-pub use file::{
-    BeamSection, ControlSection, HubSection, InitialCondition, ModelFile, MotorSection, locate,
-};
+pub use file::{BeamSection, ControlSection, HubSection, InitialCondition, ModelFile, MotorSection, locate};
 pub use modal::{ModalRow, ModeKind, RawMode, modes_of};
 pub use model::{Linearization, PAPER_MODEL_RON, SlewingModel, StateSpace};
 pub use params::{Constants, ParamId};

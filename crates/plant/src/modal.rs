@@ -61,9 +61,7 @@ pub fn modes_of(a: &Mat<f64>, n_dof: usize) -> Result<Vec<RawMode>, PlantError> 
             frequency_hz: modulus / (2.0 * std::f64::consts::PI),
             damping_ratio: if modulus > 0.0 { -ev.re / modulus } else { 1.0 },
             eigenvalue: (ev.re, ev.im),
-            displacement: (0..n_dof)
-                .map(|i| (u[(i, k)].re.powi(2) + u[(i, k)].im.powi(2)).sqrt())
-                .collect(),
+            displacement: (0..n_dof).map(|i| (u[(i, k)].re.powi(2) + u[(i, k)].im.powi(2)).sqrt()).collect(),
         });
     }
     rows.sort_by(|x, y| x.frequency_hz.total_cmp(&y.frequency_hz));

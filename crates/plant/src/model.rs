@@ -59,8 +59,7 @@ pub const PAPER_MODEL_RON: &str = include_str!("../../../fixtures/slewing.ron");
 impl SlewingModel {
     /// The paper's experiment ([`PAPER_MODEL_RON`]).
     pub fn paper() -> Self {
-        Self::from_ron(PAPER_MODEL_RON, "fixtures/slewing.ron")
-            .expect("the embedded fixture is valid")
+        Self::from_ron(PAPER_MODEL_RON, "fixtures/slewing.ron").expect("the embedded fixture is valid")
     }
 
     /// Parses a model from RON text; `origin` names it in errors (a file name).
@@ -70,12 +69,7 @@ impl SlewingModel {
     pub fn from_ron(text: &str, origin: &str) -> Result<Self, PlantError> {
         let file = ModelFile::parse(text, origin)?;
         let constants = file.constants();
-        let model = Self {
-            file,
-            origin: origin.to_string(),
-            text: text.to_string(),
-            constants,
-        };
+        let model = Self { file, origin: origin.to_string(), text: text.to_string(), constants };
         // Assemble once so that a file whose values cannot be assembled fails at load time.
         model.state_space()?;
         Ok(model)
@@ -86,10 +80,8 @@ impl SlewingModel {
     /// # Errors
     /// [`PlantError::Io`] if it cannot be read, else as [`Self::from_ron`].
     pub fn load(path: &std::path::Path) -> Result<Self, PlantError> {
-        let text = std::fs::read_to_string(path).map_err(|source| PlantError::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| PlantError::Io { path: path.display().to_string(), source })?;
         Self::from_ron(&text, &path.display().to_string())
     }
 
@@ -156,15 +148,14 @@ impl SlewingModel {
     /// # Errors
     /// [`PlantError::InvalidValue`] if the value is physically impossible.
     pub fn set(&mut self, id: ParamId, value: f64) -> Result<(), PlantError> {
-        id.check(value)
-            .map_err(|requirement| PlantError::InvalidValue {
-                origin: self.origin.clone(),
-                line: 0,
-                column: 0,
-                field: id.name(),
-                value,
-                requirement,
-            })?;
+        id.check(value).map_err(|requirement| PlantError::InvalidValue {
+            origin: self.origin.clone(),
+            line: 0,
+            column: 0,
+            field: id.name(),
+            value,
+            requirement,
+        })?;
         *self.constants.field_mut(id) = value;
         Ok(())
     }
@@ -219,12 +210,7 @@ impl SlewingModel {
             da.push(Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)].eps));
             dc.push(Mat::from_fn(c.nrows(), c.ncols(), |i, j| c[(i, j)].eps));
         }
-        Ok(Linearization {
-            a: ss.a,
-            c: ss.c,
-            da,
-            dc,
-        })
+        Ok(Linearization { a: ss.a, c: ss.c, da, dc })
     }
 
     /// The model as RON text with the current values.

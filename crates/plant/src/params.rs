@@ -123,12 +123,7 @@ impl ParamId {
 
     /// Checks a value against [`Self::must_be_positive`]; `Err` holds the requirement.
     pub fn check(self, value: f64) -> Result<(), String> {
-        let ok = value.is_finite()
-            && if self.must_be_positive() {
-                value > 0.0
-            } else {
-                value >= 0.0
-            };
+        let ok = value.is_finite() && if self.must_be_positive() { value > 0.0 } else { value >= 0.0 };
         if ok {
             Ok(())
         } else if self.must_be_positive() {
@@ -163,17 +158,12 @@ impl ParamId {
     /// # Errors
     /// [`PlantError::UnknownParameter`] listing the valid names.
     pub fn parse(name: &str, n_modes: usize) -> Result<ParamId, PlantError> {
-        ParamId::all(n_modes)
-            .into_iter()
-            .find(|id| id.name() == name)
-            .ok_or_else(|| PlantError::UnknownParameter {
+        ParamId::all(n_modes).into_iter().find(|id| id.name() == name).ok_or_else(|| {
+            PlantError::UnknownParameter {
                 name: name.to_string(),
-                valid: ParamId::all(n_modes)
-                    .iter()
-                    .map(|id| id.name())
-                    .collect::<Vec<_>>()
-                    .join(", "),
-            })
+                valid: ParamId::all(n_modes).iter().map(|id| id.name()).collect::<Vec<_>>().join(", "),
+            }
+        })
     }
 }
 

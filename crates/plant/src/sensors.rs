@@ -39,11 +39,7 @@ impl Sensor {
 
 /// C (p × 2(n+1)) for the state x = [q; q̇]. The strain row depends on the mode shapes, hence
 /// on the parameters, so C is generic like A.
-pub fn output_matrix<D: Scalar>(
-    c: &Constants<D>,
-    so: &SecondOrder<D>,
-    sensors: &[Sensor],
-) -> DMatrix<D> {
+pub fn output_matrix<D: Scalar>(c: &Constants<D>, so: &SecondOrder<D>, sensors: &[Sensor]) -> DMatrix<D> {
     let size = so.m.nrows();
     let mut out = DMatrix::from_element(sensors.len(), 2 * size, D::from(0.0));
     for (row, sensor) in sensors.iter().enumerate() {

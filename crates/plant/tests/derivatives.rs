@@ -28,8 +28,7 @@ fn exact_derivatives_match_central_differences_for_every_parameter() {
                 let exact = lin.da[k][(i, j)];
                 assert!(
                     (exact - fd).abs()
-                        <= 1e-6
-                            * (fd.abs().max(exact.abs()) + scale_a / value.abs().max(1e-3) * 1e-4),
+                        <= 1e-6 * (fd.abs().max(exact.abs()) + scale_a / value.abs().max(1e-3) * 1e-4),
                     "∂A[{i},{j}]/∂{}: exact {exact} fd {fd}",
                     id.name()
                 );
@@ -56,13 +55,6 @@ fn position_gain_changes_the_mode_shapes() {
     let model = fixture();
     let lin = model.linearization(&[ParamId::PositionGain]).unwrap();
     let n = model.n_modes() + 1;
-    assert!(
-        lin.da[0][(n + 1, 1)].abs() > 1e-3,
-        "∂(−M⁻¹K)[1,1]/∂K_p = {}",
-        lin.da[0][(n + 1, 1)]
-    );
-    assert!(
-        lin.dc[0].norm_max() > 0.0,
-        "the strain row depends on K_p through φ″(0)"
-    );
+    assert!(lin.da[0][(n + 1, 1)].abs() > 1e-3, "∂(−M⁻¹K)[1,1]/∂K_p = {}", lin.da[0][(n + 1, 1)]);
+    assert!(lin.dc[0].norm_max() > 0.0, "the strain row depends on K_p through φ″(0)");
 }

@@ -26,13 +26,7 @@ fn negative_inertia_names_field_and_line() {
     let err = load(&text).unwrap_err();
     let msg = err.to_string();
     assert!(msg.contains("motor.inertia"), "{msg}");
-    assert!(
-        msg.starts_with(&format!(
-            "test.ron:{}:",
-            line_of(&text, "inertia: -6.02e-2")
-        )),
-        "{msg}"
-    );
+    assert!(msg.starts_with(&format!("test.ron:{}:", line_of(&text, "inertia: -6.02e-2"))), "{msg}");
 }
 
 #[test]
@@ -40,10 +34,7 @@ fn zero_length_is_rejected() {
     let text = GOOD.replace("length: 1.19", "length: 0.0");
     let msg = load(&text).unwrap_err().to_string();
     assert!(msg.contains("beam.length") && msg.contains("> 0"), "{msg}");
-    assert!(
-        msg.starts_with(&format!("test.ron:{}:", line_of(&text, "length: 0.0"))),
-        "{msg}"
-    );
+    assert!(msg.starts_with(&format!("test.ron:{}:", line_of(&text, "length: 0.0"))), "{msg}");
 }
 
 #[test]
@@ -67,16 +58,11 @@ fn malformed_ron_reports_line_and_column() {
 
 #[test]
 fn unknown_and_missing_fields_are_syntax_errors() {
-    let unknown = GOOD.replace(
-        "hub_radius: 0.06,",
-        "hub_radius: 0.06,\n        colour: 1.0,",
-    );
+    let unknown = GOOD.replace("hub_radius: 0.06,", "hub_radius: 0.06,\n        colour: 1.0,");
     let msg = load(&unknown).unwrap_err().to_string();
     assert!(msg.contains("colour"), "{msg}");
-    let missing = GOOD.replace(
-        "        thickness: 0.00079375,   // 1/32 in [m], for the root strain gauge\n",
-        "",
-    );
+    let missing =
+        GOOD.replace("        thickness: 0.00079375,   // 1/32 in [m], for the root strain gauge\n", "");
     let msg = load(&missing).unwrap_err().to_string();
     assert!(msg.contains("thickness"), "{msg}");
 }
@@ -85,10 +71,7 @@ fn unknown_and_missing_fields_are_syntax_errors() {
 fn unknown_free_parameter_lists_valid_names() {
     let text = GOOD.replace("free: [\"cv\"]", "free: [\"cvv\"]");
     let msg = load(&text).unwrap_err().to_string();
-    assert!(
-        msg.contains("cvv") && msg.contains("cv, kp, modal_damping_1"),
-        "{msg}"
-    );
+    assert!(msg.contains("cvv") && msg.contains("cv, kp, modal_damping_1"), "{msg}");
 }
 
 #[test]

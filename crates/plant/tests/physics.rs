@@ -24,8 +24,7 @@ fn mass_matrix_is_symmetric_positive_definite_with_paper_entries() {
     // Damping: C_v + K_bK_t/R_a and the modal terms on the diagonal.
     assert!(
         (ss.d[(0, 0)]
-            - (c.viscous_damping
-                + c.back_emf_constant * c.torque_constant / c.armature_resistance))
+            - (c.viscous_damping + c.back_emf_constant * c.torque_constant / c.armature_resistance))
             .abs()
             < 1e-15
     );
@@ -45,21 +44,14 @@ fn stiff_light_beam_limit_is_a_rigid_servo() {
     let mut m = fixture();
     m.set(ParamId::EiOverRho, 1e6).unwrap();
     let c = m.constants().clone();
-    let j_total = c.mass_per_length * ((c.hub_radius + c.length).powi(3) - c.hub_radius.powi(3))
-        / 3.0
+    let j_total = c.mass_per_length * ((c.hub_radius + c.length).powi(3) - c.hub_radius.powi(3)) / 3.0
         + c.hub_inertia
         + c.motor_inertia;
     let ks = c.amplifier_gain * c.position_gain * c.torque_constant / c.armature_resistance;
-    let damping =
-        c.viscous_damping + c.back_emf_constant * c.torque_constant / c.armature_resistance;
+    let damping = c.viscous_damping + c.back_emf_constant * c.torque_constant / c.armature_resistance;
     let omega = (ks / j_total).sqrt();
     let zeta = damping / (2.0 * j_total * omega);
-    let servo = m
-        .modal()
-        .unwrap()
-        .into_iter()
-        .find(|r| r.kind == ModeKind::Servo)
-        .unwrap();
+    let servo = m.modal().unwrap().into_iter().find(|r| r.kind == ModeKind::Servo).unwrap();
     // Residual coupling to modes at ≥ 300 Hz shifts the servo mode by O((ω/ω₁)²) ≈ 1e-7.
     assert!((servo.frequency_hz * 2.0 * std::f64::consts::PI / omega - 1.0).abs() < 1e-5);
     assert!((servo.damping_ratio / zeta - 1.0).abs() < 1e-5);
@@ -72,14 +64,11 @@ fn first_order_form_reproduces_second_order_equations() {
     let ss = m.state_space().unwrap();
     let n = 4;
     let x: Vec<f64> = (0..8).map(|i| (i as f64 * 0.7).sin()).collect();
-    let ax: Vec<f64> = (0..8)
-        .map(|i| (0..8).map(|j| ss.a[(i, j)] * x[j]).sum())
-        .collect();
+    let ax: Vec<f64> = (0..8).map(|i| (0..8).map(|j| ss.a[(i, j)] * x[j]).sum()).collect();
     for i in 0..n {
         assert!((ax[i] - x[n + i]).abs() < 1e-15);
-        let r: f64 = (0..n)
-            .map(|j| ss.m[(i, j)] * ax[n + j] + ss.k[(i, j)] * x[j] + ss.d[(i, j)] * x[n + j])
-            .sum();
+        let r: f64 =
+            (0..n).map(|j| ss.m[(i, j)] * ax[n + j] + ss.k[(i, j)] * x[j] + ss.d[(i, j)] * x[n + j]).sum();
         assert!(r.abs() < 1e-12, "row {i}: {r}");
     }
 }

@@ -22,25 +22,14 @@ fn fixture_reproduces_table2_model_rows() {
         m.set(ParamId::PositionGain, kp).unwrap();
         let modes = m.modal().unwrap();
         let servo = modes.iter().find(|r| r.kind == ModeKind::Servo).unwrap();
-        let flex = modes
-            .iter()
-            .find(|r| r.kind == ModeKind::Flexible(1))
-            .unwrap();
-        assert!(
-            (servo.frequency_hz / f_servo - 1.0).abs() < 0.01,
-            "{name}: servo {} Hz",
-            servo.frequency_hz
-        );
+        let flex = modes.iter().find(|r| r.kind == ModeKind::Flexible(1)).unwrap();
+        assert!((servo.frequency_hz / f_servo - 1.0).abs() < 0.01, "{name}: servo {} Hz", servo.frequency_hz);
         assert!(
             (servo.damping_ratio / z_servo - 1.0).abs() < 0.05,
             "{name}: servo ζ {}",
             servo.damping_ratio
         );
-        assert!(
-            (flex.frequency_hz / f_flex - 1.0).abs() < 0.03,
-            "{name}: flexible {} Hz",
-            flex.frequency_hz
-        );
+        assert!((flex.frequency_hz / f_flex - 1.0).abs() < 0.03, "{name}: flexible {} Hz", flex.frequency_hz);
         assert!(servo.frequency_hz < flex.frequency_hz);
     }
 }
@@ -49,10 +38,7 @@ fn fixture_reproduces_table2_model_rows() {
 fn modal_table_has_one_servo_and_n_flexible_modes() {
     let modes = fixture().modal().unwrap();
     assert_eq!(modes.len(), 4);
-    assert_eq!(
-        modes.iter().filter(|r| r.kind == ModeKind::Servo).count(),
-        1
-    );
+    assert_eq!(modes.iter().filter(|r| r.kind == ModeKind::Servo).count(), 1);
     for w in modes.windows(2) {
         assert!(w[0].frequency_hz <= w[1].frequency_hz);
     }

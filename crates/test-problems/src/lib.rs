@@ -22,9 +22,7 @@ pub fn gaussian(n_rows: usize, n_cols: usize, seed: u64) -> Mat<f64> {
 /// bound so that every eigenvalue has real part ≤ −0.5 (the spectrum is not computed).
 pub fn random_stable(n: usize, seed: u64) -> Mat<f64> {
     let mut a = gaussian(n, n, seed) * faer::Scale(1.0 / (n as f64).sqrt());
-    let shift = (0..n)
-        .map(|i| (0..n).map(|j| a[(i, j)].abs()).sum::<f64>())
-        .fold(0.0, f64::max);
+    let shift = (0..n).map(|i| (0..n).map(|j| a[(i, j)].abs()).sum::<f64>()).fold(0.0, f64::max);
     for i in 0..n {
         a[(i, i)] -= shift + 0.5;
     }
@@ -55,14 +53,8 @@ impl ModalFamily {
     /// Builds the family. Frequencies are spread over 0.1–5 Hz (below the 6.4 Hz Nyquist
     /// frequency of h = 1/12.8 s), damping ratios over 1–10 %.
     pub fn new(n_modes: usize, n_params: usize, n_outputs: usize, seed: u64) -> Self {
-        assert!(
-            n_params >= 1 && n_params <= 2 * n_modes,
-            "1 ≤ n_params ≤ 2·n_modes"
-        );
-        assert!(
-            n_outputs >= 1 && n_outputs <= n_modes,
-            "1 ≤ n_outputs ≤ n_modes"
-        );
+        assert!(n_params >= 1 && n_params <= 2 * n_modes, "1 ≤ n_params ≤ 2·n_modes");
+        assert!(n_outputs >= 1 && n_outputs <= n_modes, "1 ≤ n_outputs ≤ n_modes");
         let mut r = rng(seed);
         let coupling = gaussian(n_modes, n_modes, seed.wrapping_add(1));
         let t = Mat::<f64>::from_fn(n_modes, n_modes, |i, j| {
@@ -70,35 +62,22 @@ impl ModalFamily {
         });
         let omega: Vec<f64> = (0..n_modes)
             .map(|m| {
-                let frac = if n_modes > 1 {
-                    m as f64 / (n_modes - 1) as f64
-                } else {
-                    0.0
-                };
+                let frac = if n_modes > 1 { m as f64 / (n_modes - 1) as f64 } else { 0.0 };
                 2.0 * std::f64::consts::PI * 0.1 * 50f64.powf(frac)
             })
             .collect();
-        let zeta: Vec<f64> = (0..n_modes)
-            .map(|_| 0.01 + 0.09 * r.random::<f64>())
-            .collect();
+        let zeta: Vec<f64> = (0..n_modes).map(|_| 0.01 + 0.09 * r.random::<f64>()).collect();
         let n_stiff = n_params.div_ceil(2);
         let n_damp = n_params - n_stiff;
         let term = |values: &dyn Fn(usize) -> f64, group: usize, groups: usize| {
             let diag = Mat::<f64>::from_fn(n_modes, n_modes, |i, j| {
-                if i == j && i % groups == group {
-                    values(i)
-                } else {
-                    0.0
-                }
+                if i == j && i % groups == group { values(i) } else { 0.0 }
             });
             t.transpose() * &diag * &t
         };
-        let stiffness_terms = (0..n_stiff)
-            .map(|g| term(&|i| omega[i] * omega[i], g, n_stiff))
-            .collect();
-        let damping_terms = (0..n_damp.max(1))
-            .map(|g| term(&|i| 2.0 * zeta[i] * omega[i], g, n_damp.max(1)))
-            .collect();
+        let stiffness_terms = (0..n_stiff).map(|g| term(&|i| omega[i] * omega[i], g, n_stiff)).collect();
+        let damping_terms =
+            (0..n_damp.max(1)).map(|g| term(&|i| 2.0 * zeta[i] * omega[i], g, n_damp.max(1))).collect();
         let n_states = 2 * n_modes;
         let c = Mat::<f64>::from_fn(n_outputs, n_states, |o, s| {
             f64::from(u8::from(s == o * n_modes / n_outputs))
@@ -108,14 +87,7 @@ impl ModalFamily {
             *v = r.sample::<f64, _>(StandardNormal);
         }
         // With a single parameter, damping is a fixed term (scale one) and not a parameter.
-        Self {
-            n_modes,
-            stiffness_terms,
-            damping_terms,
-            c,
-            x0,
-            p_nominal: vec![1.0; n_params],
-        }
+        Self { n_modes, stiffness_terms, damping_terms, c, x0, p_nominal: vec![1.0; n_params] }
     }
 
     /// Number of states N = 2n.
@@ -144,11 +116,7 @@ impl ModalFamily {
             add_block(&mut a, n, 0, k, -p[i]);
         }
         for (g, d) in self.damping_terms.iter().enumerate() {
-            let scale = if ns + g < self.n_params() {
-                p[ns + g]
-            } else {
-                1.0
-            };
+            let scale = if ns + g < self.n_params() { p[ns + g] } else { 1.0 };
             add_block(&mut a, n, n, d, -scale);
         }
         a
@@ -174,4 +142,140 @@ fn add_block(a: &mut Mat<f64>, row: usize, col: usize, block: &Mat<f64>, factor:
             a[(row + i, col + j)] += factor * block[(i, j)];
         }
     }
+}
+
+impl mem::LinearModel for ModalFamily {
+    type Error = std::convert::Infallible;
+    fn n_states(&self) -> usize {
+        self.n_states()
+    }
+    fn n_params(&self) -> usize {
+        self.n_params()
+    }
+    fn n_outputs(&self) -> usize {
+        self.c.nrows()
+    }
+    fn linearize(&self, p: &[f64]) -> Result<mem::Linearized, Self::Error> {
+        Ok(mem::Linearized {
+            a: self.a(p),
+            da: (0..self.n_params()).map(|i| self.da(i)).collect(),
+            c: self.c.clone(),
+            dc: None,
+            x0: self.x0.clone(),
+            dx0: None,
+        })
+    }
+}
+
+/// A two-mass spring chain (not the slewing plant): masses m₁ = 1, m₂ = 0.5, springs k₁ (to
+/// ground) and k₂ (between the masses), light damping c on each mass; P = [k₁, k₂, c];
+/// outputs: both displacements; starts from a deflection of the outer mass.
+#[derive(Clone, Debug)]
+pub struct SpringChain {
+    /// Initial displacements of the two masses.
+    pub x0: [f64; 2],
+}
+
+impl SpringChain {
+    /// The true parameters used by the tests.
+    pub const TRUE: [f64; 3] = [40.0, 15.0, 0.3];
+}
+
+impl mem::LinearModel for SpringChain {
+    type Error = std::convert::Infallible;
+    fn n_states(&self) -> usize {
+        4
+    }
+    fn n_params(&self) -> usize {
+        3
+    }
+    fn n_outputs(&self) -> usize {
+        2
+    }
+    fn linearize(&self, p: &[f64]) -> Result<mem::Linearized, Self::Error> {
+        let (m1, m2) = (1.0, 0.5);
+        let (k1, k2, c) = (p[0], p[1], p[2]);
+        let a = faer::mat![
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+            [-(k1 + k2) / m1, k2 / m1, -c / m1, 0.0],
+            [k2 / m2, -k2 / m2, 0.0, -c / m2],
+        ];
+        let entry = |i: usize, j: usize, v: f64| {
+            Mat::<f64>::from_fn(4, 4, |r, c| if (r, c) == (i, j) { v } else { 0.0 })
+        };
+        let dk1 = entry(2, 0, -1.0 / m1);
+        let dk2 = faer::mat![
+            [0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0],
+            [-1.0 / m1, 1.0 / m1, 0.0, 0.0],
+            [1.0 / m2, -1.0 / m2, 0.0, 0.0],
+        ];
+        let dc = entry(2, 2, -1.0 / m1) + entry(3, 3, -1.0 / m2);
+        Ok(mem::Linearized {
+            a,
+            da: vec![dk1, dk2, dc],
+            c: faer::mat![[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]],
+            dc: None,
+            x0: vec![self.x0[0], self.x0[1], 0.0, 0.0],
+            dx0: None,
+        })
+    }
+}
+
+/// A damped oscillator whose stiffness is the product P₁·P₂ (damping P₃): the pair (P₁, P₂)
+/// is not identifiable, only its product is.
+#[derive(Clone, Debug)]
+pub struct ProductOscillator;
+
+impl mem::LinearModel for ProductOscillator {
+    type Error = std::convert::Infallible;
+    fn n_states(&self) -> usize {
+        2
+    }
+    fn n_params(&self) -> usize {
+        3
+    }
+    fn n_outputs(&self) -> usize {
+        1
+    }
+    fn linearize(&self, p: &[f64]) -> Result<mem::Linearized, Self::Error> {
+        Ok(mem::Linearized {
+            a: faer::mat![[0.0, 1.0], [-p[0] * p[1], -p[2]]],
+            da: vec![
+                faer::mat![[0.0, 0.0], [-p[1], 0.0]],
+                faer::mat![[0.0, 0.0], [-p[0], 0.0]],
+                faer::mat![[0.0, 0.0], [0.0, -1.0]],
+            ],
+            c: faer::mat![[1.0, 0.0]],
+            dc: None,
+            x0: vec![1.0, 0.0],
+            dx0: None,
+        })
+    }
+}
+
+/// Simulates `model` at `p` for `n_samples` samples of interval `h` and returns the outputs as
+/// a measurement, with white Gaussian noise of standard deviation `noise_fraction` × (each
+/// output's RMS) added (seeded).
+pub fn simulate_measurement(
+    model: &dyn mem::ResponseModel,
+    p: &[f64],
+    h: f64,
+    n_samples: usize,
+    noise_fraction: f64,
+    seed: u64,
+) -> mem::Measurement {
+    let mut out = expm::Response::zeros(n_samples, model.n_outputs(), p.len());
+    model.respond(p, h, &mut out).expect("the test model evaluates");
+    let mut values = out.outputs;
+    let mut r = rng(seed);
+    for o in 0..values.ncols() {
+        let rms = ((0..n_samples).map(|k| values[(k, o)].powi(2)).sum::<f64>() / n_samples as f64).sqrt();
+        for k in 0..n_samples {
+            values[(k, o)] += noise_fraction * rms * r.sample::<f64, _>(StandardNormal);
+        }
+    }
+    let names = (0..values.ncols()).map(|o| format!("y{o}")).collect();
+    mem::Measurement::new(names, 0.0, h, values).expect("finite simulated data")
 }

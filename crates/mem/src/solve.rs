@@ -1,0 +1,81 @@
+//! The least-squares step of Eqs. 11–13 by a truncated SVD, with Levenberg–Marquardt damping.
+//!
+//! S is column-equilibrated, S̃ = S D⁻¹ with D = diag(‖S_{:,i}‖), and decomposed once per
+//! iteration by faer's thin SVD, S̃ = U Σ Vᵀ. Singular values below `rank_cutoff`·σ_max are
+//! dropped (the step has no component along them). For damping μ ≥ 0 the step minimises
+//! ‖S δ − r‖² + μ‖D δ‖²: δ = D⁻¹ V diag(σ_i/(σ_i² + μ)) Uᵀ r — μ = 0 is the Gauss–Newton step
+//! of the paper (with the SVD instead of (SᵀS)⁻¹, which is never formed). Trying several μ
+//! costs O(j²) each: the SVD is reused.
+
+use crate::MemError;
+use faer::{Mat, MatRef};
+
+/// One iteration's decomposition of S and the projections of r.
+pub(crate) struct StepSolver {
+    /// Column scales D.
+    scale: Vec<f64>,
+    /// Singular values of S̃ (descending).
+    pub singular_values: Vec<f64>,
+    /// V (j × j).
+    v: Mat<f64>,
+    /// Uᵀ r.
+    utr: Vec<f64>,
+    /// Number of singular values kept.
+    pub rank: usize,
+}
+
+impl StepSolver {
+    pub fn new(s: MatRef<'_, f64>, r: &[f64], rank_cutoff: f64) -> Result<Self, MemError> {
+        let (m, j) = (s.nrows(), s.ncols());
+        let scale: Vec<f64> = (0..j)
+            .map(|c| {
+                let n = s.col(c).norm_l2();
+                if n > 0.0 { n } else { 1.0 }
+            })
+            .collect();
+        let scaled = Mat::from_fn(m, j, |i, c| s[(i, c)] / scale[c]);
+        let svd = scaled.thin_svd().map_err(|_| MemError::Svd)?;
+        let sv: Vec<f64> = (0..j).map(|i| svd.S()[i]).collect();
+        let u = svd.U();
+        let utr: Vec<f64> = (0..j).map(|c| (0..m).map(|i| u[(i, c)] * r[i]).sum()).collect();
+        let threshold = rank_cutoff * sv.first().copied().unwrap_or(0.0);
+        let rank = sv.iter().filter(|x| **x > threshold && **x > 0.0).count();
+        Ok(Self { scale, singular_values: sv, v: svd.V().to_owned(), utr, rank })
+    }
+
+    /// The step for damping μ, and the decrease of ‖r − Sδ‖² it predicts.
+    pub fn step(&self, mu: f64) -> (Vec<f64>, f64) {
+        let j = self.scale.len();
+        let mut delta = vec![0.0; j];
+        let mut predicted = 0.0;
+        for i in 0..self.rank {
+            let sigma = self.singular_values[i];
+            let coefficient = sigma / (sigma * sigma + mu) * self.utr[i];
+            let kept = mu / (sigma * sigma + mu);
+            predicted += self.utr[i] * self.utr[i] * (1.0 - kept * kept);
+            for c in 0..j {
+                delta[c] += self.v[(c, i)] * coefficient;
+            }
+        }
+        for c in 0..j {
+            delta[c] /= self.scale[c];
+        }
+        (delta, predicted)
+    }
+
+    /// (SᵀS)⁺ from the decomposition: D⁻¹ V Σ⁻² Vᵀ D⁻¹ over the kept singular values.
+    pub fn normal_pseudo_inverse(&self) -> Mat<f64> {
+        let j = self.scale.len();
+        Mat::from_fn(j, j, |a, b| {
+            let sum: f64 = (0..self.rank)
+                .map(|i| self.v[(a, i)] * self.v[(b, i)] / self.singular_values[i].powi(2))
+                .sum();
+            sum / (self.scale[a] * self.scale[b])
+        })
+    }
+
+    /// The largest diagonal entry of S̃ᵀS̃ (= 1 after equilibration unless a column is zero).
+    pub fn max_scaled_diagonal(&self) -> f64 {
+        self.singular_values.first().map_or(1.0, |s| s * s)
+    }
+}

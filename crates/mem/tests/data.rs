@@ -1,0 +1,59 @@
+//! Measurement validation and decimation.
+
+use faer::Mat;
+use mem::Measurement;
+
+fn column(values: &[f64]) -> Mat<f64> {
+    Mat::from_fn(values.len(), 1, |i, _| values[i])
+}
+
+#[test]
+fn non_uniform_and_non_increasing_times_are_rejected_with_the_sample() {
+    let v = column(&[1.0, 2.0, 3.0, 4.0]);
+    let err =
+        Measurement::from_times(&[0.0, 0.1, 0.25, 0.3], vec!["y".into()], v.clone()).unwrap_err().to_string();
+    assert!(err.contains("not uniformly sampled at sample"), "{err}");
+    let err =
+        Measurement::from_times(&[0.0, 0.1, 0.1, 0.3], vec!["y".into()], v.clone()).unwrap_err().to_string();
+    assert!(err.contains("not increasing at sample 2"), "{err}");
+    let ok = Measurement::from_times(&[0.0, 0.1, 0.2, 0.3000001], vec!["y".into()], v).unwrap();
+    assert!((ok.interval() - 0.1).abs() < 1e-6);
+}
+
+#[test]
+fn nan_is_rejected_naming_sample_and_output() {
+    let err = Measurement::new(vec!["theta".into()], 0.0, 0.1, column(&[1.0, f64::NAN, 3.0]))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("theta") && err.contains("sample 1"), "{err}");
+}
+
+#[test]
+fn decimation_keeps_slow_content_and_removes_aliases() {
+    // 128 Hz → 12.8 Hz (the paper's factor 10). New Nyquist 6.4 Hz; pass band up to 5.1 Hz.
+    let fs = 128.0;
+    let n = 1281;
+    let slow = |t: f64| (2.0 * std::f64::consts::PI * 0.5 * t).cos() * (-0.1 * t).exp();
+    let fast = |t: f64| 0.3 * (2.0 * std::f64::consts::PI * 30.0 * t).sin(); // would alias to 4.4 Hz
+    let values = Mat::from_fn(n, 1, |k, _| slow(k as f64 / fs) + fast(k as f64 / fs));
+    let data = Measurement::new(vec!["y".into()], 0.0, 1.0 / fs, values).unwrap();
+    let d = data.decimate(10).unwrap();
+    assert_eq!(d.n_samples(), 129);
+    assert!((d.interval() - 0.078125).abs() < 1e-15);
+    // The fast component must be attenuated by ≥ 60 dB (0.3 → < 3e-4) and the slow content kept
+    // within 1e-3 everywhere, including the first sample (odd reflection keeps the edge).
+    let worst = (0..d.n_samples())
+        .map(|k| (d.values()[(k, 0)] - slow(k as f64 * 0.078125)).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-3, "worst deviation {worst}");
+    assert!(data.decimate(0).is_err());
+}
+
+#[test]
+fn rms_weights_normalise_outputs() {
+    let values = Mat::from_fn(4, 2, |k, o| if o == 0 { 2.0 * (k as f64 - 1.5) } else { 0.0 });
+    let w = Measurement::new(vec!["a".into(), "b".into()], 0.0, 1.0, values).unwrap().rms_weights();
+    // Output a is −3, −1, 1, 3: mean square 5.
+    assert!((w[0] - 1.0 / 5.0f64.sqrt()).abs() < 1e-15, "{}", w[0]);
+    assert_eq!(w[1], 1.0);
+}
