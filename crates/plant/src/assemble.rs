@@ -1,6 +1,6 @@
 //! The closed-loop equations of motion (paper Eqs. 17–21) and their first-order form.
 
-use crate::{Constants, PlantError};
+use crate::{Constants, Effect, PlantError};
 use beam_modes::{Beam, Mode};
 use nalgebra::{DMatrix, DVector, RealField};
 use num_dual::DualNum;
@@ -24,6 +24,45 @@ pub struct SecondOrder<D: Scalar> {
     pub modes: Vec<Mode<D>>,
     /// Servo stiffness k_s = G·K_p·K_t/R_a \[N·m/rad\], which is also the modes' root spring.
     pub servo_stiffness: D,
+    /// Where the servo torque enters: [1, Γ_1, …, Γ_n, (0 for an unmodeled mode)].
+    pub servo_vector: DVector<D>,
+}
+
+/// Where each part of the (possibly augmented) state lives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Layout {
+    /// Number of flexible beam modes n.
+    pub n_modes: usize,
+    /// Mechanical degrees of freedom: 1 (hub) + n (+1 with an unmodeled mode).
+    pub n_dof: usize,
+    /// Index of the unmodeled mode's coordinate among the degrees of freedom.
+    pub extra_mode: Option<usize>,
+    /// State index of the Padé delay state w.
+    pub delay: Option<usize>,
+    /// State index of the constant state that carries output offsets.
+    pub offset: Option<usize>,
+    /// Total number of states.
+    pub n_states: usize,
+}
+
+impl Layout {
+    /// The layout that a set of constants (with its effects) needs.
+    pub fn of<D>(c: &Constants<D>) -> Self {
+        let n_modes = c.modal_damping.len();
+        let has = |kind: &str| c.effects.iter().any(|e| e.kind() == kind);
+        let extra_mode = has("unmodeled_mode").then_some(n_modes + 1);
+        let n_dof = n_modes + 1 + usize::from(extra_mode.is_some());
+        let mut n_states = 2 * n_dof;
+        let delay = has("time_delay").then(|| {
+            n_states += 1;
+            n_states - 1
+        });
+        let offset = has("output_offset").then(|| {
+            n_states += 1;
+            n_states - 1
+        });
+        Self { n_modes, n_dof, extra_mode, delay, offset, n_states }
+    }
 }
 
 /// Servo stiffness G·K_p·K_t/R_a \[N·m/rad\].
@@ -54,12 +93,15 @@ pub fn second_order<D: Scalar>(c: &Constants<D>) -> Result<SecondOrder<D>, Plant
     let (a, l, rho) = (c.hub_radius, c.length, c.mass_per_length);
     // ∫₀ᴸ ρ (a + x)² dx = ρ((a + L)³ − a³)/3
     let beam_inertia = rho * (DualNum::powi(&(a + l), 3) - DualNum::powi(&a, 3)) / D::from(3.0);
-    let size = n + 1;
+    let layout = Layout::of(c);
+    let size = layout.n_dof;
     let zero = D::from(0.0);
     let mut m = DMatrix::from_element(size, size, zero);
     let mut d = DMatrix::from_element(size, size, zero);
     let mut k = DMatrix::from_element(size, size, zero);
     let mut b = DVector::from_element(size, zero);
+    let mut servo_vector = DVector::from_element(size, zero);
+    servo_vector[0] = D::from(1.0);
     m[(0, 0)] = beam_inertia + c.hub_inertia + c.motor_inertia;
     d[(0, 0)] = c.viscous_damping + c.back_emf_constant * c.torque_constant / c.armature_resistance;
     k[(0, 0)] = ks;
@@ -75,27 +117,81 @@ pub fn second_order<D: Scalar>(c: &Constants<D>) -> Result<SecondOrder<D>, Plant
         // moment, whose generalised force on mode i is (moment)·φ_i′(0).
         k[(r, 0)] = ks * mode.root_slope;
         b[r] = ks * mode.root_slope;
+        servo_vector[r] = mode.root_slope;
     }
-    Ok(SecondOrder { m, d, k, b, modes, servo_stiffness: ks })
+    if let Some(r) = layout.extra_mode {
+        for e in &c.effects {
+            if let Effect::UnmodeledMode { frequency_hz, damping_ratio, coupling } = e {
+                let omega = *frequency_hz * D::from(2.0 * std::f64::consts::PI);
+                m[(0, r)] = *coupling;
+                m[(r, 0)] = *coupling;
+                m[(r, r)] = D::from(1.0);
+                d[(r, r)] = D::from(2.0) * *damping_ratio * omega;
+                k[(r, r)] = omega * omega;
+            }
+        }
+    }
+    Ok(SecondOrder { m, d, k, b, modes, servo_stiffness: ks, servo_vector })
 }
 
-/// A = [[0, I], [−M⁻¹K, −M⁻¹D]], by one LU factorisation of M and two solves (no inverse).
+/// The first-order form and the input directions of the servo and hub torques.
+#[derive(Clone, Debug)]
+pub struct FirstOrder<D: Scalar> {
+    /// A (n_states square): [[0, I], [−M⁻¹K, −M⁻¹D]] plus the delay and offset states.
+    pub a: DMatrix<D>,
+    /// [0; M⁻¹·servo_vector; 0…]: how a change of servo torque enters ẋ.
+    pub servo_input: DVector<D>,
+    /// [0; M⁻¹e₀; 0…]: how an extra torque on the hub enters ẋ.
+    pub hub_input: DVector<D>,
+    /// The state layout.
+    pub layout: Layout,
+}
+
+/// A = [[0, I], [−M⁻¹K, −M⁻¹D]] by one LU factorisation of M and solves (no inverse), augmented
+/// with the effects' states:
+/// * time delay τ (Padé(1,1)): the servo acts on θ_d = −θ + w instead of θ, ẇ = (2/τ)(2θ − w);
+/// * output offset: a constant state (ẋ = 0, x(0) = 1) that C maps to the biases.
 ///
 /// # Errors
 /// [`PlantError::SingularMass`] if M cannot be factorised.
-pub fn first_order<D: Scalar>(so: &SecondOrder<D>) -> Result<DMatrix<D>, PlantError> {
-    let size = so.m.nrows();
+pub fn first_order<D: Scalar>(c: &Constants<D>, so: &SecondOrder<D>) -> Result<FirstOrder<D>, PlantError> {
+    let layout = Layout::of(c);
+    let size = layout.n_dof;
     let lu = so.m.clone().lu();
     let mk = lu.solve(&so.k).ok_or(PlantError::SingularMass)?;
     let md = lu.solve(&so.d).ok_or(PlantError::SingularMass)?;
+    let msv = lu.solve(&so.servo_vector).ok_or(PlantError::SingularMass)?;
+    let mut e0 = DVector::from_element(size, D::from(0.0));
+    e0[0] = D::from(1.0);
+    let me0 = lu.solve(&e0).ok_or(PlantError::SingularMass)?;
     let zero = D::from(0.0);
-    let mut a = DMatrix::from_element(2 * size, 2 * size, zero);
+    let n = layout.n_states;
+    let mut a = DMatrix::from_element(n, n, zero);
+    let mut servo_input = DVector::from_element(n, zero);
+    let mut hub_input = DVector::from_element(n, zero);
     for i in 0..size {
         a[(i, size + i)] = D::from(1.0);
         for j in 0..size {
             a[(size + i, j)] = -mk[(i, j)];
             a[(size + i, size + j)] = -md[(i, j)];
         }
+        servo_input[size + i] = msv[i];
+        hub_input[size + i] = me0[i];
     }
-    Ok(a)
+    if let Some(w) = layout.delay {
+        let tau = c
+            .effects
+            .iter()
+            .find_map(|e| if let Effect::TimeDelay { delay } = e { Some(*delay) } else { None })
+            .expect("the layout has a delay state only with a TimeDelay effect");
+        let ks = so.servo_stiffness;
+        for i in 0..size {
+            // −M⁻¹ k_s sv θ becomes −M⁻¹ k_s sv (−θ + w).
+            a[(size + i, 0)] += D::from(2.0) * msv[i] * ks;
+            a[(size + i, w)] = -msv[i] * ks;
+        }
+        a[(w, 0)] = D::from(4.0) / tau;
+        a[(w, w)] = D::from(-2.0) / tau;
+    }
+    Ok(FirstOrder { a, servo_input, hub_input, layout })
 }

@@ -18,11 +18,21 @@ impl SlewingModel {
     /// As [`SlewingModel::state_space`].
     pub fn matrices_json(&self) -> Result<Value, PlantError> {
         let ss = self.state_space()?;
+        let layout = self.layout();
         let n = self.n_modes();
-        let mut states = vec!["theta".to_string()];
-        states.extend((1..=n).map(|i| format!("q{i}")));
-        states.push("theta_dot".into());
-        states.extend((1..=n).map(|i| format!("q{i}_dot")));
+        let mut coordinates = vec!["theta".to_string()];
+        coordinates.extend((1..=n).map(|i| format!("q{i}")));
+        if layout.extra_mode.is_some() {
+            coordinates.push("eta".into());
+        }
+        let mut states = coordinates.clone();
+        states.extend(coordinates.iter().map(|c| format!("{c}_dot")));
+        if layout.delay.is_some() {
+            states.push("delay_w".into());
+        }
+        if layout.offset.is_some() {
+            states.push("offset_one".into());
+        }
         Ok(json!({
             "name": self.file().name,
             "states": states,

@@ -1,5 +1,6 @@
 //! The RON model file: schema, parsing with located errors, and writing.
 
+use crate::effects::Effect;
 use crate::sensors::Sensor;
 use crate::{Constants, ParamId, PlantError};
 use serde::{Deserialize, Serialize};
@@ -31,6 +32,9 @@ pub struct ModelFile {
     /// Optional bounds (lower, upper) per parameter name.
     #[serde(default)]
     pub bounds: BTreeMap<String, (f64, f64)>,
+    /// Optional physical effects beyond the paper's model (see `docs/effects.md`).
+    #[serde(default)]
+    pub effects: Vec<Effect>,
 }
 
 /// Beam constants.
@@ -140,9 +144,46 @@ impl ModelFile {
             ));
         }
         let constants = self.constants();
-        for id in ParamId::all(self.n_modes()) {
+        let ids = constants.parameter_ids();
+        for &id in &ids {
             let value = constants.get(id);
             id.check(value).map_err(|req| invalid(&id.field_path(), value, req))?;
+        }
+        for (i, e) in self.effects.iter().enumerate() {
+            let duplicate = self.effects[..i].iter().any(|f| match (f, e) {
+                (Effect::OutputOffset { sensor: a, .. }, Effect::OutputOffset { sensor: b, .. })
+                | (
+                    Effect::SensorQuantization { sensor: a, .. },
+                    Effect::SensorQuantization { sensor: b, .. },
+                ) => a == b,
+                _ => f.kind() == e.kind(),
+            });
+            if duplicate {
+                return Err(invalid("effects", i as f64, format!("effect {} is listed twice", e.kind())));
+            }
+            if let Effect::OutputOffset { sensor, .. } | Effect::SensorQuantization { sensor, .. } = e
+                && !self.outputs.contains(sensor)
+            {
+                return Err(invalid(
+                    "effects",
+                    i as f64,
+                    format!("{} refers to {sensor:?}, which is not in `outputs`", e.kind()),
+                ));
+            }
+            if let Effect::SensorQuantization { step, .. } = e
+                && !(step.is_finite() && *step > 0.0)
+            {
+                return Err(invalid("effects.step", *step, "must be finite and > 0".into()));
+            }
+            if let Effect::CoulombFriction { smoothing_velocity, .. } = e
+                && !(smoothing_velocity.is_finite() && *smoothing_velocity > 0.0)
+            {
+                return Err(invalid(
+                    "effects.smoothing_velocity",
+                    *smoothing_velocity,
+                    "must be finite and > 0".into(),
+                ));
+            }
         }
         let ic = &self.initial_condition;
         for (path, value) in
@@ -161,7 +202,7 @@ impl ModelFile {
             }
         }
         for name in self.free.iter().chain(self.bounds.keys()) {
-            ParamId::parse(name, self.n_modes())?;
+            ParamId::parse_among(name, &ids)?;
         }
         for (name, (lo, hi)) in &self.bounds {
             if lo.partial_cmp(hi) != Some(std::cmp::Ordering::Less) {
@@ -188,6 +229,7 @@ impl ModelFile {
             position_gain: self.control.position_gain,
             viscous_damping: self.control.viscous_damping,
             modal_damping: self.modal_damping.clone(),
+            effects: self.effects.clone(),
         }
     }
 
@@ -207,6 +249,7 @@ impl ModelFile {
         self.control.position_gain = c.position_gain;
         self.control.viscous_damping = c.viscous_damping;
         self.modal_damping = c.modal_damping.clone();
+        self.effects = c.effects.clone();
     }
 
     /// The file as pretty RON text.

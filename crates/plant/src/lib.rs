@@ -33,17 +33,20 @@
 //! `fixtures/slewing.ron` holds the paper's experiment.
 
 pub mod assemble;
+mod effects;
 mod error;
 mod export;
 mod file;
 mod modal;
 mod model;
+pub mod nonlinear;
 mod params;
 mod sensors;
 
+pub use effects::Effect;
 pub use error::PlantError;
 pub use file::{BeamSection, ControlSection, HubSection, InitialCondition, ModelFile, MotorSection, locate};
 pub use modal::{ModalRow, ModeKind, RawMode, modes_of};
 pub use model::{Linearization, PAPER_MODEL_RON, SlewingModel, StateSpace};
-pub use params::{Constants, ParamId};
+pub use params::{Constants, ParamId, SignRule};
 pub use sensors::Sensor;

@@ -1,6 +1,6 @@
 //! The slewing model as a whole: a validated model file and the matrices it defines.
 
-use crate::assemble::{first_order, second_order};
+use crate::assemble::{Layout, first_order, second_order};
 use crate::file::{ModelFile, locate};
 use crate::sensors::{Sensor, output_matrix};
 use crate::{Constants, ParamId, PlantError};
@@ -97,9 +97,67 @@ impl SlewingModel {
         self.file.n_modes()
     }
 
-    /// Number of states N = 2(n+1).
+    /// Where each part of the state lives (with the effects' extra states).
+    pub fn layout(&self) -> Layout {
+        Layout::of(&self.constants)
+    }
+
+    /// Number of states N: 2(n+1), plus 2 for an unmodeled mode, 1 for a delay, 1 for offsets.
     pub fn n_states(&self) -> usize {
-        2 * (self.n_modes() + 1)
+        self.layout().n_states
+    }
+
+    /// Whether the model is linear (no amplifier saturation, friction or drag), so that the
+    /// exact matrix-exponential path applies.
+    pub fn is_linear(&self) -> bool {
+        !self.constants.effects.iter().any(|e| e.is_nonlinear())
+    }
+
+    /// The effects in the model.
+    pub fn effects(&self) -> &[crate::Effect] {
+        &self.constants.effects
+    }
+
+    /// Adds an effect (for the discrepancy workflow).
+    ///
+    /// # Errors
+    /// [`PlantError::InvalidValue`] if the model already has an effect of that kind.
+    pub fn add_effect(&mut self, effect: crate::Effect) -> Result<(), PlantError> {
+        let mut file = self.file();
+        file.effects.push(effect);
+        let text = file.to_ron();
+        *self = Self::from_ron(&text, &self.origin)?;
+        Ok(())
+    }
+
+    /// Every parameter this model has (core and effects).
+    pub fn parameter_ids(&self) -> Vec<ParamId> {
+        self.constants.parameter_ids()
+    }
+
+    /// The nonlinear dynamics in scalar type D, with the constants converted by `lift`.
+    ///
+    /// # Errors
+    /// As [`Self::state_space`].
+    pub fn dynamics_with<D: crate::assemble::Scalar>(
+        &self,
+        lift: impl Fn(&f64) -> D,
+    ) -> Result<crate::nonlinear::Dynamics<D>, PlantError> {
+        crate::nonlinear::dynamics(&self.constants.map(lift), &self.file.outputs)
+    }
+
+    /// The sensors' quantization steps (measurement-only effects), per output.
+    pub fn quantization(&self) -> Vec<Option<f64>> {
+        self.file
+            .outputs
+            .iter()
+            .map(|s| {
+                self.constants.effects.iter().find_map(|e| match e {
+                    crate::Effect::SensorQuantization { sensor, step } if sensor == s => Some(*step),
+                    _ => None,
+                })
+            })
+            .collect()
     }
 
     /// Current constants.
@@ -122,7 +180,7 @@ impl SlewingModel {
     /// # Errors
     /// [`PlantError::UnknownParameter`] listing the valid names.
     pub fn parameter(&self, name: &str) -> Result<ParamId, PlantError> {
-        ParamId::parse(name, self.n_modes())
+        ParamId::parse_among(name, &self.constants.parameter_ids())
     }
 
     /// The parameters the file marks as free.
@@ -165,11 +223,20 @@ impl SlewingModel {
         self.file.initial_condition.hub_angle = hub_angle;
     }
 
-    /// x(0) = [θ(0), 0, …, 0, θ̇(0), 0, …, 0]: the beam undeformed and at rest.
+    /// x(0) = [θ(0), 0, …, 0, θ̇(0), 0, …, 0]: the beam undeformed and at rest; the delay state
+    /// in steady state for a held angle (w = 2θ(0), so θ_d = θ(0)); the offset state 1.
     pub fn initial_state(&self) -> Vec<f64> {
-        let mut x = vec![0.0; self.n_states()];
-        x[0] = self.file.initial_condition.hub_angle;
-        x[self.n_modes() + 1] = self.file.initial_condition.hub_rate;
+        let layout = self.layout();
+        let mut x = vec![0.0; layout.n_states];
+        let theta = self.file.initial_condition.hub_angle;
+        x[0] = theta;
+        x[layout.n_dof] = self.file.initial_condition.hub_rate;
+        if let Some(w) = layout.delay {
+            x[w] = 2.0 * theta;
+        }
+        if let Some(o) = layout.offset {
+            x[o] = 1.0;
+        }
         x
     }
 
@@ -179,7 +246,7 @@ impl SlewingModel {
     /// [`PlantError::Beam`] or [`PlantError::SingularMass`] for impossible combinations.
     pub fn state_space(&self) -> Result<StateSpace, PlantError> {
         let so = second_order(&self.constants)?;
-        let a = first_order(&so)?;
+        let a = first_order(&self.constants, &so)?.a;
         let c = output_matrix(&self.constants, &so, &self.file.outputs);
         Ok(StateSpace {
             m: to_faer(&so.m),
@@ -205,7 +272,7 @@ impl SlewingModel {
             let mut dual = self.constants.map(|v| Dual64::from(*v));
             dual.field_mut(id).eps = 1.0;
             let so = second_order(&dual)?;
-            let a = first_order(&so)?;
+            let a = first_order(&dual, &so)?.a;
             let c = output_matrix(&dual, &so, &self.file.outputs);
             da.push(Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)].eps));
             dc.push(Mat::from_fn(c.nrows(), c.ncols(), |i, j| c[(i, j)].eps));

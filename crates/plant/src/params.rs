@@ -1,6 +1,8 @@
-//! The model's physical and control constants, generic over the scalar, and their names.
+//! The model's physical, control and effect constants, generic over the scalar, and their names.
 
 use crate::PlantError;
+use crate::effects::Effect;
+use crate::sensors::Sensor;
 
 /// Every constant of the closed-loop slewing model (SI units), generic over the scalar so that
 /// num-dual numbers carry derivatives through the whole assembly.
@@ -26,8 +28,7 @@ pub struct Constants<D> {
     pub back_emf_constant: D,
     /// Armature resistance R_a \[Ω\].
     pub armature_resistance: D,
-    /// Power-amplifier voltage gain G \[V/V\] between the controller and the armature (not
-    /// printed in the paper; calibrated).
+    /// Power-amplifier voltage gain G \[V/V\] (not printed in the paper; calibrated).
     pub amplifier_gain: D,
     /// Position feedback gain K_p \[V/rad\].
     pub position_gain: D,
@@ -35,6 +36,8 @@ pub struct Constants<D> {
     pub viscous_damping: D,
     /// Modal damping terms 2ζ_iω_i \[1/s\], one per flexible mode.
     pub modal_damping: Vec<D>,
+    /// Effects added to the paper's model.
+    pub effects: Vec<Effect<D>>,
 }
 
 /// A named, tunable constant of the model.
@@ -54,6 +57,8 @@ pub enum ParamId {
     Length,
     /// `hub_radius`: a.
     HubRadius,
+    /// `thickness`: beam thickness.
+    Thickness,
     /// `hub_inertia`: I_H.
     HubInertia,
     /// `motor_inertia`: I_m.
@@ -66,142 +71,240 @@ pub enum ParamId {
     ArmatureResistance,
     /// `amplifier_gain`: G.
     AmplifierGain,
-    /// `thickness`: beam thickness.
-    Thickness,
+    /// `current_limit` of `AmplifierSaturation`.
+    CurrentLimit,
+    /// `coulomb_torque` of `CoulombFriction`.
+    CoulombTorque,
+    /// `drag_hub` of `QuadraticDrag`.
+    DragHub,
+    /// `delay` of `TimeDelay`.
+    Delay,
+    /// `offset_<output>` of `OutputOffset`.
+    Offset(Sensor),
+    /// `extra_mode_frequency` of `UnmodeledMode`.
+    ExtraModeFrequency,
+    /// `extra_mode_damping` of `UnmodeledMode`.
+    ExtraModeDamping,
+    /// `extra_mode_coupling` of `UnmodeledMode`.
+    ExtraModeCoupling,
 }
 
-const FIXED_NAMES: [(&str, ParamId); 13] = [
-    ("cv", ParamId::ViscousDamping),
-    ("kp", ParamId::PositionGain),
-    ("rho", ParamId::MassPerLength),
-    ("ei_over_rho", ParamId::EiOverRho),
-    ("length", ParamId::Length),
-    ("hub_radius", ParamId::HubRadius),
-    ("hub_inertia", ParamId::HubInertia),
-    ("motor_inertia", ParamId::MotorInertia),
-    ("kt", ParamId::TorqueConstant),
-    ("kb", ParamId::BackEmfConstant),
-    ("ra", ParamId::ArmatureResistance),
-    ("amplifier_gain", ParamId::AmplifierGain),
-    ("thickness", ParamId::Thickness),
+/// The sign a parameter may take.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SignRule {
+    /// Strictly positive.
+    Positive,
+    /// Zero or positive.
+    NonNegative,
+    /// Any finite value.
+    Any,
+}
+
+const CORE: [(&str, ParamId, &str); 13] = [
+    ("cv", ParamId::ViscousDamping, "control.viscous_damping"),
+    ("kp", ParamId::PositionGain, "control.position_gain"),
+    ("rho", ParamId::MassPerLength, "beam.mass_per_length"),
+    ("ei_over_rho", ParamId::EiOverRho, "beam.ei_over_rho"),
+    ("length", ParamId::Length, "beam.length"),
+    ("hub_radius", ParamId::HubRadius, "beam.hub_radius"),
+    ("thickness", ParamId::Thickness, "beam.thickness"),
+    ("hub_inertia", ParamId::HubInertia, "hub.inertia"),
+    ("motor_inertia", ParamId::MotorInertia, "motor.inertia"),
+    ("kt", ParamId::TorqueConstant, "motor.torque_constant"),
+    ("kb", ParamId::BackEmfConstant, "motor.back_emf_constant"),
+    ("ra", ParamId::ArmatureResistance, "motor.armature_resistance"),
+    ("amplifier_gain", ParamId::AmplifierGain, "motor.amplifier_gain"),
+];
+
+const EFFECT_PARAMS: [(&str, ParamId, &str); 7] = [
+    ("current_limit", ParamId::CurrentLimit, "current_limit"),
+    ("coulomb_torque", ParamId::CoulombTorque, "torque"),
+    ("drag_hub", ParamId::DragHub, "hub"),
+    ("delay", ParamId::Delay, "delay"),
+    ("extra_mode_frequency", ParamId::ExtraModeFrequency, "frequency_hz"),
+    ("extra_mode_damping", ParamId::ExtraModeDamping, "damping_ratio"),
+    ("extra_mode_coupling", ParamId::ExtraModeCoupling, "coupling"),
 ];
 
 impl ParamId {
-    /// Where the parameter lives in a model file, e.g. `control.viscous_damping`.
-    pub fn field_path(self) -> String {
-        match self {
-            ParamId::ViscousDamping => "control.viscous_damping".into(),
-            ParamId::PositionGain => "control.position_gain".into(),
-            ParamId::ModalDamping(i) => format!("modal_damping[{}]", i - 1),
-            ParamId::MassPerLength => "beam.mass_per_length".into(),
-            ParamId::EiOverRho => "beam.ei_over_rho".into(),
-            ParamId::Length => "beam.length".into(),
-            ParamId::HubRadius => "beam.hub_radius".into(),
-            ParamId::Thickness => "beam.thickness".into(),
-            ParamId::HubInertia => "hub.inertia".into(),
-            ParamId::MotorInertia => "motor.inertia".into(),
-            ParamId::TorqueConstant => "motor.torque_constant".into(),
-            ParamId::BackEmfConstant => "motor.back_emf_constant".into(),
-            ParamId::ArmatureResistance => "motor.armature_resistance".into(),
-            ParamId::AmplifierGain => "motor.amplifier_gain".into(),
-        }
-    }
-
-    /// Whether the value must be strictly positive (else non-negative).
-    pub fn must_be_positive(self) -> bool {
-        matches!(
-            self,
-            ParamId::Length
-                | ParamId::EiOverRho
-                | ParamId::MassPerLength
-                | ParamId::Thickness
-                | ParamId::TorqueConstant
-                | ParamId::ArmatureResistance
-                | ParamId::AmplifierGain
-        )
-    }
-
-    /// Checks a value against [`Self::must_be_positive`]; `Err` holds the requirement.
-    pub fn check(self, value: f64) -> Result<(), String> {
-        let ok = value.is_finite() && if self.must_be_positive() { value > 0.0 } else { value >= 0.0 };
-        if ok {
-            Ok(())
-        } else if self.must_be_positive() {
-            Err("must be finite and > 0".into())
-        } else {
-            Err("must be finite and ≥ 0".into())
-        }
-    }
-
     /// The parameter's name, as used on the command line and in model files.
     pub fn name(self) -> String {
         match self {
             ParamId::ModalDamping(i) => format!("modal_damping_{i}"),
-            other => FIXED_NAMES
+            ParamId::Offset(s) => format!("offset_{}", s.output_name()),
+            other => CORE
                 .iter()
-                .find(|(_, id)| *id == other)
-                .map(|(n, _)| (*n).to_string())
-                .expect("every fixed parameter has a name"),
+                .chain(EFFECT_PARAMS.iter())
+                .find(|(_, id, _)| *id == other)
+                .map(|(n, _, _)| (*n).to_string())
+                .expect("every parameter has a name"),
         }
     }
 
-    /// All parameter names of a model with `n_modes` flexible modes.
+    /// Where the parameter lives in a model file, e.g. `control.viscous_damping`, or for an
+    /// effect `effects.current_limit`.
+    pub fn field_path(self) -> String {
+        match self {
+            ParamId::ModalDamping(i) => format!("modal_damping[{}]", i - 1),
+            ParamId::Offset(_) => "effects.offset".into(),
+            other => CORE
+                .iter()
+                .map(|(_, id, path)| (*id, (*path).to_string()))
+                .chain(EFFECT_PARAMS.iter().map(|(_, id, field)| (*id, format!("effects.{field}"))))
+                .find(|(id, _)| *id == other)
+                .map(|(_, p)| p)
+                .expect("every parameter has a path"),
+        }
+    }
+
+    /// The sign rule of the parameter.
+    pub fn sign_rule(self) -> SignRule {
+        match self {
+            ParamId::Length
+            | ParamId::EiOverRho
+            | ParamId::MassPerLength
+            | ParamId::Thickness
+            | ParamId::TorqueConstant
+            | ParamId::ArmatureResistance
+            | ParamId::AmplifierGain
+            | ParamId::CurrentLimit
+            | ParamId::Delay
+            | ParamId::ExtraModeFrequency => SignRule::Positive,
+            ParamId::Offset(_) | ParamId::ExtraModeCoupling => SignRule::Any,
+            _ => SignRule::NonNegative,
+        }
+    }
+
+    /// Whether the value must be strictly positive.
+    pub fn must_be_positive(self) -> bool {
+        self.sign_rule() == SignRule::Positive
+    }
+
+    /// Checks a value against the sign rule; `Err` holds the requirement.
+    pub fn check(self, value: f64) -> Result<(), String> {
+        let rule = self.sign_rule();
+        let ok = value.is_finite()
+            && match rule {
+                SignRule::Positive => value > 0.0,
+                SignRule::NonNegative => value >= 0.0,
+                SignRule::Any => true,
+            };
+        match (ok, rule) {
+            (true, _) => Ok(()),
+            (false, SignRule::Positive) => Err("must be finite and > 0".into()),
+            (false, SignRule::NonNegative) => Err("must be finite and ≥ 0".into()),
+            (false, SignRule::Any) => Err("must be finite".into()),
+        }
+    }
+
+    /// The core (effect-free) parameter names of a model with `n_modes` flexible modes.
     pub fn all(n_modes: usize) -> Vec<ParamId> {
-        let mut ids: Vec<ParamId> = FIXED_NAMES[..2].iter().map(|(_, id)| *id).collect();
+        let mut ids = vec![ParamId::ViscousDamping, ParamId::PositionGain];
         ids.extend((1..=n_modes).map(ParamId::ModalDamping));
-        ids.extend(FIXED_NAMES[2..].iter().map(|(_, id)| *id));
+        ids.extend(CORE[2..].iter().map(|(_, id, _)| *id));
         ids
     }
 
-    /// Looks a name up.
+    /// The parameters an effect brings.
+    pub fn of_effect<D>(effect: &Effect<D>) -> Vec<ParamId> {
+        match effect {
+            Effect::AmplifierSaturation { .. } => vec![ParamId::CurrentLimit],
+            Effect::CoulombFriction { .. } => vec![ParamId::CoulombTorque],
+            Effect::QuadraticDrag { .. } => vec![ParamId::DragHub],
+            Effect::SensorQuantization { .. } => vec![],
+            Effect::OutputOffset { sensor, .. } => vec![ParamId::Offset(*sensor)],
+            Effect::TimeDelay { .. } => vec![ParamId::Delay],
+            Effect::UnmodeledMode { .. } => {
+                vec![ParamId::ExtraModeFrequency, ParamId::ExtraModeDamping, ParamId::ExtraModeCoupling]
+            }
+        }
+    }
+
+    /// Looks a name up among `ids`.
     ///
     /// # Errors
     /// [`PlantError::UnknownParameter`] listing the valid names.
-    pub fn parse(name: &str, n_modes: usize) -> Result<ParamId, PlantError> {
-        ParamId::all(n_modes).into_iter().find(|id| id.name() == name).ok_or_else(|| {
-            PlantError::UnknownParameter {
-                name: name.to_string(),
-                valid: ParamId::all(n_modes).iter().map(|id| id.name()).collect::<Vec<_>>().join(", "),
-            }
+    pub fn parse_among(name: &str, ids: &[ParamId]) -> Result<ParamId, PlantError> {
+        ids.iter().copied().find(|id| id.name() == name).ok_or_else(|| PlantError::UnknownParameter {
+            name: name.to_string(),
+            valid: ids.iter().map(|id| id.name()).collect::<Vec<_>>().join(", "),
         })
     }
 }
 
-/// The field of `Constants` that a `ParamId` names, borrowed with the given reference kind.
-macro_rules! field {
+/// The field of `Constants` that a core `ParamId` names, borrowed with the given reference kind.
+macro_rules! core_field {
     ([$($borrow:tt)+] $s:ident, $id:expr) => {
         match $id {
-            ParamId::ViscousDamping => $($borrow)+ $s.viscous_damping,
-            ParamId::PositionGain => $($borrow)+ $s.position_gain,
-            ParamId::ModalDamping(i) => $($borrow)+ $s.modal_damping[i - 1],
-            ParamId::MassPerLength => $($borrow)+ $s.mass_per_length,
-            ParamId::EiOverRho => $($borrow)+ $s.ei_over_rho,
-            ParamId::Length => $($borrow)+ $s.length,
-            ParamId::HubRadius => $($borrow)+ $s.hub_radius,
-            ParamId::HubInertia => $($borrow)+ $s.hub_inertia,
-            ParamId::MotorInertia => $($borrow)+ $s.motor_inertia,
-            ParamId::TorqueConstant => $($borrow)+ $s.torque_constant,
-            ParamId::BackEmfConstant => $($borrow)+ $s.back_emf_constant,
-            ParamId::ArmatureResistance => $($borrow)+ $s.armature_resistance,
-            ParamId::AmplifierGain => $($borrow)+ $s.amplifier_gain,
-            ParamId::Thickness => $($borrow)+ $s.thickness,
+            ParamId::ViscousDamping => Some($($borrow)+ $s.viscous_damping),
+            ParamId::PositionGain => Some($($borrow)+ $s.position_gain),
+            ParamId::ModalDamping(i) => (i >= 1 && i <= $s.modal_damping.len()).then(|| $($borrow)+ $s.modal_damping[i - 1]),
+            ParamId::MassPerLength => Some($($borrow)+ $s.mass_per_length),
+            ParamId::EiOverRho => Some($($borrow)+ $s.ei_over_rho),
+            ParamId::Length => Some($($borrow)+ $s.length),
+            ParamId::HubRadius => Some($($borrow)+ $s.hub_radius),
+            ParamId::Thickness => Some($($borrow)+ $s.thickness),
+            ParamId::HubInertia => Some($($borrow)+ $s.hub_inertia),
+            ParamId::MotorInertia => Some($($borrow)+ $s.motor_inertia),
+            ParamId::TorqueConstant => Some($($borrow)+ $s.torque_constant),
+            ParamId::BackEmfConstant => Some($($borrow)+ $s.back_emf_constant),
+            ParamId::ArmatureResistance => Some($($borrow)+ $s.armature_resistance),
+            ParamId::AmplifierGain => Some($($borrow)+ $s.amplifier_gain),
+            _ => None,
         }
+    };
+}
+
+/// The effect field that an effect `ParamId` names.
+macro_rules! effect_field {
+    ([$($borrow:tt)+] $effects:expr, $id:expr) => {
+        $effects.into_iter().find_map(|e| match (e, $id) {
+            (Effect::AmplifierSaturation { current_limit, .. }, ParamId::CurrentLimit) => Some(current_limit),
+            (Effect::CoulombFriction { torque, .. }, ParamId::CoulombTorque) => Some(torque),
+            (Effect::QuadraticDrag { hub }, ParamId::DragHub) => Some(hub),
+            (Effect::TimeDelay { delay }, ParamId::Delay) => Some(delay),
+            (Effect::OutputOffset { sensor, offset }, ParamId::Offset(s)) if *sensor == s => Some(offset),
+            (Effect::UnmodeledMode { frequency_hz, .. }, ParamId::ExtraModeFrequency) => Some(frequency_hz),
+            (Effect::UnmodeledMode { damping_ratio, .. }, ParamId::ExtraModeDamping) => Some(damping_ratio),
+            (Effect::UnmodeledMode { coupling, .. }, ParamId::ExtraModeCoupling) => Some(coupling),
+            _ => None,
+        })
     };
 }
 
 impl<D: Clone> Constants<D> {
     /// The value of one parameter.
+    ///
+    /// # Panics
+    /// If the parameter belongs to an effect the model does not have (ids obtained from
+    /// [`crate::SlewingModel::parameter`] always exist).
     pub fn get(&self, id: ParamId) -> D {
-        self.field(id).clone()
+        self.try_get(id).expect("the parameter exists in this model")
+    }
+
+    /// The value of one parameter, if the model has it.
+    pub fn try_get(&self, id: ParamId) -> Option<D> {
+        core_field!([&] self, id).or_else(|| effect_field!([&] self.effects.iter(), id)).cloned()
     }
 
     /// A mutable reference to one parameter.
+    ///
+    /// # Panics
+    /// As [`Self::get`].
     pub fn field_mut(&mut self, id: ParamId) -> &mut D {
-        field!([&mut] self, id)
+        if let Some(f) = core_field!([&mut] self, id) {
+            return f;
+        }
+        effect_field!([&mut] self.effects.iter_mut(), id).expect("the parameter exists in this model")
     }
 
-    fn field(&self, id: ParamId) -> &D {
-        field!([&] self, id)
+    /// Every parameter this model has: the core ones and those of its effects.
+    pub fn parameter_ids(&self) -> Vec<ParamId> {
+        let mut ids = ParamId::all(self.modal_damping.len());
+        for e in &self.effects {
+            ids.extend(ParamId::of_effect(e));
+        }
+        ids
     }
 
     /// Converts every value with `f` (e.g. f64 → dual number).
@@ -221,6 +324,7 @@ impl<D: Clone> Constants<D> {
             position_gain: f(&self.position_gain),
             viscous_damping: f(&self.viscous_damping),
             modal_damping: self.modal_damping.iter().map(&f).collect(),
+            effects: self.effects.iter().map(|e| e.map(&f)).collect(),
         }
     }
 }

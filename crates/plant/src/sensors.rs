@@ -1,12 +1,12 @@
 //! The experiment's sensors and the output matrix C.
 
-use crate::Constants;
-use crate::assemble::{Scalar, SecondOrder};
+use crate::assemble::{Layout, Scalar, SecondOrder};
+use crate::{Constants, Effect};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
 /// A sensor of the slewing experiment (paper §IV).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Sensor {
     /// Potentiometer: hub angle θ \[rad\]; output name `theta`.
     Potentiometer,
@@ -40,8 +40,9 @@ impl Sensor {
 /// C (p × 2(n+1)) for the state x = [q; q̇]. The strain row depends on the mode shapes, hence
 /// on the parameters, so C is generic like A.
 pub fn output_matrix<D: Scalar>(c: &Constants<D>, so: &SecondOrder<D>, sensors: &[Sensor]) -> DMatrix<D> {
-    let size = so.m.nrows();
-    let mut out = DMatrix::from_element(sensors.len(), 2 * size, D::from(0.0));
+    let layout = Layout::of(c);
+    let size = layout.n_dof;
+    let mut out = DMatrix::from_element(sensors.len(), layout.n_states, D::from(0.0));
     for (row, sensor) in sensors.iter().enumerate() {
         match sensor {
             Sensor::Potentiometer => out[(row, 0)] = D::from(1.0),
@@ -49,6 +50,15 @@ pub fn output_matrix<D: Scalar>(c: &Constants<D>, so: &SecondOrder<D>, sensors: 
             Sensor::StrainGauge => {
                 for (i, mode) in so.modes.iter().enumerate() {
                     out[(row, i + 1)] = c.thickness * D::from(0.5e6) * mode.root_curvature;
+                }
+            }
+        }
+        if let Some(col) = layout.offset {
+            for e in &c.effects {
+                if let Effect::OutputOffset { sensor: s, offset } = e
+                    && s == sensor
+                {
+                    out[(row, col)] = *offset;
                 }
             }
         }

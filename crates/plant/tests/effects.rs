@@ -1,0 +1,133 @@
+//! The effects catalog: augmentations, limits that reduce to the linear model, derivatives.
+
+use plant::nonlinear::smooth_limit;
+use plant::{ModeKind, ParamId, SlewingModel};
+
+fn with_effects(effects: &str) -> SlewingModel {
+    let text = plant::PAPER_MODEL_RON
+        .replace("    bounds: {", &format!("    effects: [{effects}],\n    bounds: {{"));
+    SlewingModel::from_ron(&text, "effects.ron").unwrap()
+}
+
+#[test]
+fn uncoupled_extra_mode_appears_at_its_own_frequency() {
+    let m = with_effects("UnmodeledMode(frequency_hz: 4.2, damping_ratio: 0.03, coupling: 0.0)");
+    assert_eq!(m.n_states(), 10);
+    let modes = m.modal().unwrap();
+    let extra = modes.iter().find(|r| (r.frequency_hz - 4.2).abs() < 1e-9).expect("a 4.2 Hz mode");
+    assert!((extra.damping_ratio - 0.03).abs() < 1e-12);
+    // The paper's modes are unchanged.
+    let base = SlewingModel::paper().modal().unwrap();
+    let servo = modes.iter().find(|r| r.kind == ModeKind::Servo).unwrap();
+    assert!((servo.frequency_hz - base[0].frequency_hz).abs() < 1e-12);
+}
+
+#[test]
+fn short_delay_barely_moves_the_modes() {
+    // Padé(1,1) of a 1 ms delay: the servo mode (0.15 Hz) moves by O(ωτ) ≈ 1e-3 relative.
+    let m = with_effects("TimeDelay(delay: 0.001)");
+    let base = SlewingModel::paper().modal().unwrap();
+    let servo = m.modal().unwrap().into_iter().find(|r| r.kind == ModeKind::Servo).unwrap();
+    assert!((servo.frequency_hz / base[0].frequency_hz - 1.0).abs() < 2e-3);
+    // x(0) holds the delay line in steady state: θ_d(0) = −θ(0) + w(0) = θ(0).
+    let x0 = m.initial_state();
+    let w = m.layout().delay.unwrap();
+    assert_eq!(-x0[0] + x0[w], x0[0]);
+}
+
+#[test]
+fn output_offset_shifts_the_output() {
+    let m = with_effects("OutputOffset(sensor: Potentiometer, offset: 0.02)");
+    let ss = m.state_space().unwrap();
+    let y0: f64 = (0..m.n_states()).map(|j| ss.c[(0, j)] * ss.x0[j]).sum();
+    assert!((y0 - (0.5 + 0.02)).abs() < 1e-15);
+    assert!(m.parameter("offset_theta").is_ok());
+    assert!(m.parameter("offset_strain").is_err());
+}
+
+#[test]
+fn nonlinear_effects_reduce_to_the_linear_model_in_their_limits() {
+    let m = with_effects(
+        "AmplifierSaturation(current_limit: 1e6), CoulombFriction(torque: 0.0, smoothing_velocity: 0.01), QuadraticDrag(hub: 0.0)",
+    );
+    assert!(!m.is_linear());
+    let dynamics = m.dynamics_with(|v| *v).unwrap();
+    let a = m.state_space().unwrap().a;
+    let x: Vec<f64> = (0..m.n_states()).map(|i| 0.3 * (i as f64 + 1.0).sin()).collect();
+    let mut f = vec![0.0; x.len()];
+    dynamics.rhs(&x, &mut f);
+    for i in 0..x.len() {
+        let linear: f64 = (0..x.len()).map(|j| a[(i, j)] * x[j]).sum();
+        assert!((f[i] - linear).abs() < 1e-12 * (1.0 + linear.abs()), "row {i}: {} vs {linear}", f[i]);
+    }
+}
+
+#[test]
+fn smooth_limiter_is_linear_below_and_clamped_above() {
+    for i in [0.1f64, 0.3, 0.59] {
+        assert!((smooth_limit(i, 1.0) / i - 1.0).abs() < 0.01, "{i}");
+    }
+    for i in [2.0f64, 5.0, 50.0] {
+        assert!(
+            (smooth_limit(i, 1.0) - 1.0).abs() < 0.01 && (smooth_limit(-i, 1.0) + 1.0).abs() < 0.01,
+            "{i}"
+        );
+    }
+}
+
+#[test]
+fn effect_parameters_have_exact_derivatives() {
+    let m = with_effects(
+        "UnmodeledMode(frequency_hz: 4.2, damping_ratio: 0.03, coupling: 0.05), TimeDelay(delay: 0.02), OutputOffset(sensor: StrainGauge, offset: 3.0)",
+    );
+    let ids: Vec<ParamId> =
+        ["extra_mode_frequency", "extra_mode_damping", "extra_mode_coupling", "delay", "offset_strain", "kp"]
+            .iter()
+            .map(|n| m.parameter(n).unwrap())
+            .collect();
+    let lin = m.linearization(&ids).unwrap();
+    for (k, &id) in ids.iter().enumerate() {
+        let v = m.get(id);
+        let h = 1e-6 * v.abs();
+        let eval = |x: f64| {
+            let mut mm = m.clone();
+            mm.set(id, x).unwrap();
+            mm.state_space().unwrap()
+        };
+        let (p, q) = (eval(v + h), eval(v - h));
+        let scale = lin.a.norm_max().max(1.0);
+        for i in 0..lin.a.nrows() {
+            for j in 0..lin.a.ncols() {
+                let fd = (p.a[(i, j)] - q.a[(i, j)]) / (2.0 * h);
+                assert!(
+                    (fd - lin.da[k][(i, j)]).abs() < 1e-6 * (fd.abs() + scale / v.abs() * 1e-3),
+                    "∂A[{i},{j}]/∂{}",
+                    id.name()
+                );
+            }
+        }
+        for i in 0..lin.c.nrows() {
+            for j in 0..lin.c.ncols() {
+                let fd = (p.c[(i, j)] - q.c[(i, j)]) / (2.0 * h);
+                assert!(
+                    (fd - lin.dc[k][(i, j)]).abs() < 1e-6 * fd.abs().max(1e-3),
+                    "∂C[{i},{j}]/∂{}",
+                    id.name()
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn effects_are_validated() {
+    let text = plant::PAPER_MODEL_RON
+        .replace("    bounds: {", "    effects: [TimeDelay(delay: -1.0)],\n    bounds: {");
+    let msg = SlewingModel::from_ron(&text, "bad.ron").unwrap_err().to_string();
+    assert!(msg.contains("delay") && msg.contains("> 0"), "{msg}");
+    let text = plant::PAPER_MODEL_RON.replace(
+        "    bounds: {",
+        "    effects: [QuadraticDrag(hub: 0.1), QuadraticDrag(hub: 0.2)],\n    bounds: {",
+    );
+    assert!(SlewingModel::from_ron(&text, "bad.ron").unwrap_err().to_string().contains("twice"));
+}
