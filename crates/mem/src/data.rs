@@ -41,11 +41,10 @@ impl Measurement {
         for o in 0..values.ncols() {
             for k in 0..values.nrows() {
                 if !values[(k, o)].is_finite() {
-                    return Err(MemError::InvalidData(format!(
-                        "output `{}` has the non-finite value {} at sample {k}",
-                        names[o],
-                        values[(k, o)]
-                    )));
+                    return Err(MemError::Sample {
+                        sample: k,
+                        message: format!("output `{}` has the non-finite value {}", names[o], values[(k, o)]),
+                    });
                 }
             }
         }
@@ -70,21 +69,22 @@ impl Measurement {
         }
         for (k, w) in times.windows(2).enumerate() {
             if w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater) {
-                return Err(MemError::InvalidData(format!(
-                    "time is not increasing at sample {} ({} after {})",
-                    k + 1,
-                    w[1],
-                    w[0]
-                )));
+                return Err(MemError::Sample {
+                    sample: k + 1,
+                    message: format!("time is not increasing ({} after {})", w[1], w[0]),
+                });
             }
         }
         let h = (times[times.len() - 1] - times[0]) / (times.len() - 1) as f64;
         for (k, t) in times.iter().enumerate() {
             let expected = times[0] + k as f64 * h;
             if (t - expected).abs() > UNIFORM_TOLERANCE * h {
-                return Err(MemError::InvalidData(format!(
-                    "time is not uniformly sampled at sample {k}: {t} where {expected} was expected (h = {h})"
-                )));
+                return Err(MemError::Sample {
+                    sample: k,
+                    message: format!(
+                        "time is not uniformly sampled: {t} where {expected} was expected (h = {h})"
+                    ),
+                });
             }
         }
         Self::new(names, times[0], h, values)
@@ -117,6 +117,26 @@ impl Measurement {
     /// The time stamps.
     pub fn times(&self) -> Vec<f64> {
         (0..self.n_samples()).map(|k| self.start + k as f64 * self.interval).collect()
+    }
+
+    /// The named outputs only, in the given order.
+    ///
+    /// # Errors
+    /// [`MemError::InvalidData`] for a name the measurement lacks.
+    pub fn select(&self, names: &[&str]) -> Result<Self, MemError> {
+        let columns = names
+            .iter()
+            .map(|n| {
+                self.names.iter().position(|m| m == n).ok_or_else(|| {
+                    MemError::InvalidData(format!(
+                        "the data have no column `{n}` (columns: {})",
+                        self.names.join(", ")
+                    ))
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let values = Mat::from_fn(self.n_samples(), columns.len(), |k, o| self.values[(k, columns[o])]);
+        Self::new(names.iter().map(|n| n.to_string()).collect(), self.start, self.interval, values)
     }
 
     /// 1/RMS of each output (1 for an output that is identically zero), so that outputs in

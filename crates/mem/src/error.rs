@@ -32,6 +32,14 @@ pub enum MemError {
     /// Measured data are unusable.
     #[error("invalid data: {0}")]
     InvalidData(String),
+    /// One sample of the measured data is unusable (0-based sample index).
+    #[error("invalid data at sample {sample}: {message}")]
+    Sample {
+        /// Index of the sample.
+        sample: usize,
+        /// What is wrong with it.
+        message: String,
+    },
     /// Shapes of model, data and settings do not fit together.
     #[error("shape mismatch: {0}")]
     Shape(String),

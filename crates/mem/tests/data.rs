@@ -12,10 +12,10 @@ fn non_uniform_and_non_increasing_times_are_rejected_with_the_sample() {
     let v = column(&[1.0, 2.0, 3.0, 4.0]);
     let err =
         Measurement::from_times(&[0.0, 0.1, 0.25, 0.3], vec!["y".into()], v.clone()).unwrap_err().to_string();
-    assert!(err.contains("not uniformly sampled at sample"), "{err}");
+    assert!(err.contains("sample 2") && err.contains("not uniformly sampled"), "{err}");
     let err =
         Measurement::from_times(&[0.0, 0.1, 0.1, 0.3], vec!["y".into()], v.clone()).unwrap_err().to_string();
-    assert!(err.contains("not increasing at sample 2"), "{err}");
+    assert!(err.contains("sample 2") && err.contains("not increasing"), "{err}");
     let ok = Measurement::from_times(&[0.0, 0.1, 0.2, 0.3000001], vec!["y".into()], v).unwrap();
     assert!((ok.interval() - 0.1).abs() < 1e-6);
 }

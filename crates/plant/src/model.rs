@@ -218,6 +218,33 @@ impl SlewingModel {
         Ok(())
     }
 
+    /// The same model observing only the named outputs (effects on other sensors dropped).
+    ///
+    /// # Errors
+    /// [`PlantError::UnknownParameter`] (listing the outputs) for a name the model lacks.
+    pub fn select_outputs(&self, names: &[&str]) -> Result<Self, PlantError> {
+        let mut file = self.file();
+        let mut chosen = Vec::new();
+        for name in names {
+            let sensor =
+                file.outputs.iter().copied().find(|s| s.output_name() == *name).ok_or_else(|| {
+                    PlantError::UnknownParameter {
+                        name: (*name).to_string(),
+                        valid: self.output_names().join(", "),
+                    }
+                })?;
+            chosen.push(sensor);
+        }
+        file.effects.retain(|e| match e {
+            crate::Effect::OutputOffset { sensor, .. } | crate::Effect::SensorQuantization { sensor, .. } => {
+                chosen.contains(sensor)
+            }
+            _ => true,
+        });
+        file.outputs = chosen;
+        Self::from_ron(&file.to_ron(), &self.origin)
+    }
+
     /// Sets the initial hub angle \[rad\].
     pub fn set_initial_angle(&mut self, hub_angle: f64) {
         self.file.initial_condition.hub_angle = hub_angle;

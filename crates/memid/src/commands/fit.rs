@@ -1,0 +1,151 @@
+//! `memid fit`: the MEM fit of a model to measured data.
+
+use crate::io::{Inputs, load_model, names, read_measurement, write_atomic};
+use crate::output::{fit_json, fit_table};
+use crate::progress::spinner;
+use crate::report::Report;
+use anyhow::{Result, bail};
+use discrepancy::{FitRequest, fit};
+use mem::{Measurement, Safeguard};
+use plant::SlewingModel;
+use std::path::{Path, PathBuf};
+
+/// Fit the free parameters of a model to a measured free decay.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Model file (RON).
+    #[arg(long)]
+    model: PathBuf,
+    /// Measured data (CSV with header t,<outputs>).
+    #[arg(long)]
+    data: PathBuf,
+    /// Parameters to tune, comma-separated (default: the model file's `free` list).
+    #[arg(long)]
+    free: Option<String>,
+    /// Override a parameter before fitting, NAME=VALUE (repeatable).
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    set: Vec<String>,
+    /// Use only these outputs, comma-separated (e.g. `theta`, as the paper did).
+    #[arg(long)]
+    outputs: Option<String>,
+    /// Keep every R-th sample after an anti-aliasing filter (the paper: 128 Hz → 12.8 Hz is 10).
+    #[arg(long, value_name = "R")]
+    decimate: Option<usize>,
+    /// The paper's plain Gauss–Newton step, without the Levenberg–Marquardt safeguard.
+    #[arg(long)]
+    plain: bool,
+    /// Unit output weights (Eq. 22 exactly) instead of 1/RMS per output.
+    #[arg(long)]
+    unweighted: bool,
+    /// Compare the sensitivities with central finite differences after the fit.
+    #[arg(long)]
+    check_derivatives: bool,
+    /// Iteration cap.
+    #[arg(long, default_value_t = 100)]
+    max_iterations: usize,
+    /// Write the fit as JSON to FILE (`-` for standard output; suppresses the table).
+    #[arg(long, value_name = "FILE")]
+    json: Option<PathBuf>,
+    /// Write a report (figures, report.md, fit.json) into DIR.
+    #[arg(long, value_name = "DIR")]
+    report: Option<PathBuf>,
+    /// Write the fitted model as a new RON file.
+    #[arg(short = 'o', long = "output")]
+    output: Option<PathBuf>,
+}
+
+/// Restricts model and data to `outputs` (if given) and decimates the data.
+pub fn prepare(
+    model: SlewingModel,
+    data: Measurement,
+    outputs: Option<&str>,
+    decimate: Option<usize>,
+) -> Result<(SlewingModel, Measurement)> {
+    let (model, data) = match outputs {
+        Some(list) => {
+            let chosen = names(list);
+            let refs: Vec<&str> = chosen.iter().map(|s| s.as_str()).collect();
+            (model.select_outputs(&refs)?, data.select(&refs)?)
+        }
+        None => (model, data),
+    };
+    let data = match decimate {
+        Some(r) => data.decimate(r)?,
+        None => data,
+    };
+    Ok((model, data))
+}
+
+/// Runs the command.
+pub fn run(args: Args) -> Result<()> {
+    let mut inputs = Inputs::default();
+    let model = load_model(&args.model, &args.set, &mut inputs)?;
+    inputs.add(&args.data);
+    let data = read_measurement(&args.data)?;
+    for out in [&args.output, &args.json].into_iter().flatten() {
+        if out.as_os_str() != "-" {
+            inputs.guard(out)?;
+        }
+    }
+    let (model, data) = prepare(model, data, args.outputs.as_deref(), args.decimate)?;
+    let free = match &args.free {
+        Some(list) => names(list),
+        None => model.file().free.clone(),
+    };
+    if free.is_empty() {
+        bail!("no parameters to fit: give --free NAME[,NAME...] or a `free` list in the model file");
+    }
+    let mut request = FitRequest::new(&free.iter().map(|s| s.as_str()).collect::<Vec<_>>());
+    request.normalize = !args.unweighted;
+    request.safeguard = if args.plain { Safeguard::None } else { Safeguard::LevenbergMarquardt };
+    request.check_derivatives = args.check_derivatives;
+    request.max_iterations = args.max_iterations;
+    let quiet = args.json.is_some();
+    let bar = spinner(&format!("fitting {}", free.join(", ")), quiet);
+    let outcome = fit(&model, &data, &request)?;
+    bar.finish_and_clear();
+    let json = fit_json(&outcome, &model.output_names());
+    match &args.json {
+        Some(path) if path.as_os_str() == "-" => println!("{}", serde_json::to_string_pretty(&json)?),
+        Some(path) => write_atomic(path, serde_json::to_string_pretty(&json)?.as_bytes())?,
+        None => {
+            println!(
+                "MEM fit of `{}` to {} ({} samples at {:.4} s, outputs {})",
+                model.file().name,
+                args.data.display(),
+                data.n_samples(),
+                data.interval(),
+                model.output_names().join(", ")
+            );
+            print!("{}", fit_table(&outcome.report));
+        }
+    }
+    if let Some(path) = &args.output {
+        write_atomic(path, outcome.fitted.to_ron().as_bytes())?;
+        if !quiet {
+            println!("fitted model written to {}", path.display());
+        }
+    }
+    if let Some(dir) = &args.report {
+        write_report(dir, &data, &outcome, &json)?;
+        if !quiet {
+            println!("report written to {}", dir.join("report.md").display());
+        }
+    }
+    Ok(())
+}
+
+fn write_report(
+    dir: &Path,
+    data: &Measurement,
+    outcome: &discrepancy::FitOutcome,
+    json: &serde_json::Value,
+) -> Result<()> {
+    let mut report = Report::new(dir, "memid fit")?;
+    report.text(&format!("```text\n{}```\n", fit_table(&outcome.report)));
+    report.measured("measured", "Measured time histories", data)?;
+    report.fit("fit", "Fit", data, outcome)?;
+    report.json("fit.json", json)?;
+    report.finish()?;
+    Ok(())
+}

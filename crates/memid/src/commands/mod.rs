@@ -1,0 +1,8 @@
+//! One module per subcommand.
+
+pub mod demo;
+pub mod era;
+pub mod fit;
+pub mod modal;
+pub mod model;
+pub mod simulate;

@@ -1,0 +1,121 @@
+//! Figures as SVG and PNG with plotters, drawn with an embedded font (DejaVu Sans), so no
+//! system font is needed.
+
+use anyhow::{Result, anyhow};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::{Path, PathBuf};
+use std::sync::Once;
+
+static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+static REGISTER: Once = Once::new();
+
+fn register_font() {
+    REGISTER.call_once(|| {
+        // The embedded font is a valid TTF; a failure here would be a build defect.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    });
+}
+
+/// One line in a panel.
+pub struct Series {
+    /// Legend label.
+    pub label: String,
+    /// (x, y) points.
+    pub points: Vec<(f64, f64)>,
+    /// Colour.
+    pub color: RGBColor,
+}
+
+/// One stacked panel of a figure.
+pub struct Panel {
+    /// Y-axis label.
+    pub y_label: String,
+    /// Lines.
+    pub series: Vec<Series>,
+}
+
+/// The palette: measurement, initial model, final model, extra.
+pub const COLORS: [RGBColor; 4] =
+    [RGBColor(30, 30, 30), RGBColor(200, 60, 40), RGBColor(30, 100, 200), RGBColor(40, 150, 60)];
+
+const WIDTH: u32 = 960;
+const PANEL_HEIGHT: u32 = 260;
+
+/// Writes `<stem>.svg` and `<stem>.png` (each whole or not at all) and returns their paths.
+pub fn figure(stem: &Path, title: &str, x_label: &str, panels: &[Panel]) -> Result<Vec<PathBuf>> {
+    register_font();
+    let size = (WIDTH, 60 + PANEL_HEIGHT * panels.len() as u32);
+    let svg_path = stem.with_extension("svg");
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        draw(root, title, x_label, panels).map_err(|e| anyhow!("drawing {}: {e}", svg_path.display()))?;
+    }
+    crate::io::write_atomic(&svg_path, svg.as_bytes())?;
+    let png_path = stem.with_extension("png");
+    // The encoder picks the format from the extension, so the temporary name ends in .png.
+    let tmp = stem.with_extension(format!("tmp-{}.png", std::process::id()));
+    {
+        let root = BitMapBackend::new(&tmp, size).into_drawing_area();
+        draw(root, title, x_label, panels).map_err(|e| anyhow!("drawing {}: {e}", png_path.display()))?;
+    }
+    std::fs::rename(&tmp, &png_path)?;
+    Ok(vec![svg_path, png_path])
+}
+
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    title: &str,
+    x_label: &str,
+    panels: &[Panel],
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    root.fill(&WHITE)?;
+    let root = root.titled(title, ("sans-serif", 22))?;
+    let areas = root.split_evenly((panels.len(), 1));
+    for (area, panel) in areas.iter().zip(panels) {
+        let (mut x_min, mut x_max, mut y_min, mut y_max) =
+            (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+        for s in &panel.series {
+            for (x, y) in &s.points {
+                x_min = x_min.min(*x);
+                x_max = x_max.max(*x);
+                y_min = y_min.min(*y);
+                y_max = y_max.max(*y);
+            }
+        }
+        if x_min.partial_cmp(&x_max) != Some(std::cmp::Ordering::Less) {
+            x_max = x_min + 1.0;
+        }
+        let pad = 0.05 * (y_max - y_min).abs().max(1e-12);
+        let mut chart = ChartBuilder::on(area)
+            .margin(8)
+            .x_label_area_size(36)
+            .y_label_area_size(70)
+            .build_cartesian_2d(x_min..x_max, (y_min - pad)..(y_max + pad))?;
+        chart
+            .configure_mesh()
+            .x_desc(x_label)
+            .y_desc(panel.y_label.as_str())
+            .label_style(("sans-serif", 14))
+            .axis_desc_style(("sans-serif", 15))
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()?;
+        for s in &panel.series {
+            let color = s.color;
+            chart
+                .draw_series(LineSeries::new(s.points.iter().copied(), color.stroke_width(2)))?
+                .label(s.label.as_str())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(RGBColor(180, 180, 180))
+            .label_font(("sans-serif", 14))
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()?;
+    }
+    root.present()?;
+    Ok(())
+}
