@@ -35,6 +35,8 @@ enum Command {
     Model(commands::model::Args),
     /// The paper's two runs on the embedded slewing experiment, with a report.
     Demo(commands::demo::Args),
+    /// Find the physical effect a model is missing, add it, and show the gap shrink.
+    Diagnose(commands::diagnose::Args),
 }
 
 fn main() -> ExitCode {
@@ -46,6 +48,7 @@ fn main() -> ExitCode {
         Command::Era(a) => commands::era::run(a),
         Command::Model(a) => commands::model::run(a),
         Command::Demo(a) => commands::demo::run(a),
+        Command::Diagnose(a) => commands::diagnose::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -247,3 +247,68 @@ fn bad_inputs_give_one_line_and_status_2() {
     let usage = memid(&["fit", "--model"]);
     assert_eq!(usage.status.code(), Some(2));
 }
+
+#[test]
+fn diagnose_names_the_demo_data_effects_one_at_a_time() {
+    // The demo's measurement hides a current limit, air drag and quantization (fixtures/README.md).
+    let dir = scratch("diagnose");
+    let data = fixture("slewing_measured.csv");
+    let mut model = fixture("slewing.ron");
+    let mut previous_error = f64::INFINITY;
+    let mut named = Vec::new();
+    for step in 1..=2 {
+        let augmented = dir.join(format!("step{step}.ron"));
+        let json = dir.join(format!("step{step}.json"));
+        let report = dir.join(format!("report{step}"));
+        let run = memid(&[
+            "diagnose",
+            "--model",
+            p(&model),
+            "--data",
+            p(&data),
+            "--free",
+            "cv,kp",
+            "--decimate",
+            "10",
+            "-o",
+            p(&augmented),
+            "--json",
+            p(&json),
+            "--report",
+            p(&report),
+        ]);
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+        let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let (base, aug) = (v["baseline_error"].as_f64().unwrap(), v["augmented_error"].as_f64().unwrap());
+        assert!(base <= previous_error * (1.0 + 1e-9), "step {step} starts above the last step's error");
+        assert!(aug < base, "step {step}: the gap must shrink ({base} → {aug})");
+        assert!(
+            v["candidates"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .all(|c| c["effect"].is_string() && c.get("score").is_some())
+        );
+        assert!(report.join("report.md").exists() && report.join("augmented_residuals.png").exists());
+        named.push(v["effect"].as_str().unwrap().to_string());
+        previous_error = aug;
+        model = augmented;
+    }
+    assert_eq!(named, ["amplifier_saturation", "quadratic_drag"]);
+    let text = std::fs::read_to_string(&model).unwrap();
+    assert!(text.contains("AmplifierSaturation") && text.contains("QuadraticDrag"));
+}
+
+#[test]
+fn diagnose_rejects_bad_arguments() {
+    let model = fixture("slewing.ron");
+    let data = fixture("slewing_measured.csv");
+    assert_bad(
+        &memid(&["diagnose", "--model", p(&model), "--data", p(&data), "--free", "nope"]),
+        "valid names are",
+    );
+    assert_bad(
+        &memid(&["diagnose", "--model", p(&model), "--data", p(&data), "--free", "cv", "-o", p(&model)]),
+        "refusing to overwrite",
+    );
+}

@@ -130,6 +130,11 @@ impl SlewingModel {
         Ok(())
     }
 
+    /// Sets (lower, upper) bounds for a parameter, used by fits.
+    pub fn set_bounds(&mut self, id: ParamId, bounds: (f64, f64)) {
+        self.file.bounds.insert(id.name(), bounds);
+    }
+
     /// Every parameter this model has (core and effects).
     pub fn parameter_ids(&self) -> Vec<ParamId> {
         self.constants.parameter_ids()

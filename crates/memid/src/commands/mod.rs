@@ -1,6 +1,7 @@
 //! One module per subcommand.
 
 pub mod demo;
+pub mod diagnose;
 pub mod era;
 pub mod fit;
 pub mod modal;

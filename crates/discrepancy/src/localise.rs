@@ -1,0 +1,176 @@
+//! Where and how model and measurement disagree.
+
+use crate::FitOutcome;
+use crate::stats::ljung_box;
+use mem::Measurement;
+
+/// How one output's residual looks.
+#[derive(Clone, Debug)]
+pub struct OutputDiscrepancy {
+    /// Output name.
+    pub name: String,
+    /// Share of the weighted error ‖Y_error‖ this output carries.
+    pub share: f64,
+    /// RMS of the unweighted residual, in the output's unit.
+    pub rms: f64,
+    /// RMS of the residual in the first third of the record over that in the last third.
+    pub early_to_late: f64,
+    /// Ljung–Box p-value (lags 1–20): ≈ 0 when the residual has structure, large when white.
+    pub whiteness_p: f64,
+}
+
+/// The localisation of a discrepancy.
+#[derive(Clone, Debug)]
+pub struct Localisation {
+    /// Per output.
+    pub outputs: Vec<OutputDiscrepancy>,
+    /// (start s, end s, share of the weighted error) for ten equal windows of the record.
+    pub windows: Vec<(f64, f64, f64)>,
+    /// (amplitude, half-cycle log decrement) of the measured first output, largest amplitude first.
+    pub decrement_vs_amplitude: Vec<(f64, f64)>,
+    /// Least-squares slope of the decrement against amplitude, divided by the mean decrement
+    /// (per unit amplitude): ≈ 0 for viscous damping, > 0 when damping grows with amplitude
+    /// (drag), < 0 when it grows as the motion dies out (dry friction).
+    pub decrement_trend: f64,
+    /// Physical modes ERA finds in the residual (a peak the model lacks), strongest first.
+    pub residual_modes: Vec<era::EraMode>,
+    /// Findings in words.
+    pub findings: Vec<String>,
+}
+
+fn smoothed(values: &[f64], half: usize) -> Vec<f64> {
+    (0..values.len())
+        .map(|k| {
+            let (a, b) = (k.saturating_sub(half), (k + half + 1).min(values.len()));
+            values[a..b].iter().sum::<f64>() / (b - a) as f64
+        })
+        .collect()
+}
+
+/// Half-cycle peaks (|extrema| between zero crossings) of a smoothed signal.
+fn half_cycle_peaks(values: &[f64]) -> Vec<f64> {
+    let s = smoothed(values, 2);
+    let mean = s[s.len() * 3 / 4..].iter().sum::<f64>() / (s.len() - s.len() * 3 / 4) as f64;
+    let mut peaks = Vec::new();
+    let mut current: f64 = 0.0;
+    let mut sign = (s[0] - mean).signum();
+    for v in &s {
+        let d = v - mean;
+        if d.signum() != sign && d != 0.0 {
+            peaks.push(current);
+            current = 0.0;
+            sign = d.signum();
+        }
+        current = current.max(d.abs());
+    }
+    peaks
+}
+
+/// Localises the residual of a fit.
+pub fn localise(data: &Measurement, outcome: &FitOutcome) -> Localisation {
+    let residual = outcome.residual(data);
+    let (k, p) = (data.n_samples(), data.n_outputs());
+    let weights = &outcome.weights;
+    let total: f64 =
+        (0..p).map(|o| (0..k).map(|t| (weights[o] * residual[(t, o)]).powi(2)).sum::<f64>()).sum();
+    let third = k / 3;
+    let outputs: Vec<OutputDiscrepancy> = (0..p)
+        .map(|o| {
+            let series: Vec<f64> = (0..k).map(|t| residual[(t, o)]).collect();
+            let rms = |s: &[f64]| (s.iter().map(|v| v * v).sum::<f64>() / s.len().max(1) as f64).sqrt();
+            let share =
+                series.iter().map(|v| (weights[o] * v).powi(2)).sum::<f64>() / total.max(f64::MIN_POSITIVE);
+            OutputDiscrepancy {
+                name: data.names()[o].clone(),
+                share,
+                rms: rms(&series),
+                early_to_late: rms(&series[..third]) / rms(&series[k - third..]).max(f64::MIN_POSITIVE),
+                whiteness_p: ljung_box(&series, 20).1,
+            }
+        })
+        .collect();
+    let windows = (0..10)
+        .map(|w| {
+            let (a, b) = (w * k / 10, (w + 1) * k / 10);
+            let share: f64 = (0..p)
+                .map(|o| (a..b).map(|t| (weights[o] * residual[(t, o)]).powi(2)).sum::<f64>())
+                .sum::<f64>()
+                / total.max(f64::MIN_POSITIVE);
+            (data.start() + a as f64 * data.interval(), data.start() + b as f64 * data.interval(), share)
+        })
+        .collect();
+    let first: Vec<f64> = (0..k).map(|t| data.values()[(t, 0)]).collect();
+    let peaks = half_cycle_peaks(&first);
+    let noise_floor = 5.0 * outputs[0].rms.min(peaks.first().copied().unwrap_or(0.0) * 0.05);
+    let decrement_vs_amplitude: Vec<(f64, f64)> = peaks
+        .windows(2)
+        .filter(|w| w[0] > noise_floor && w[1] > noise_floor)
+        .map(|w| (0.5 * (w[0] + w[1]), (w[0] / w[1]).ln()))
+        .collect();
+    let decrement_trend = trend(&decrement_vs_amplitude);
+    let residual_modes = {
+        let weighted = faer::Mat::from_fn(k, p, |t, o| weights[o] * residual[(t, o)]);
+        match era::identify(weighted.as_ref(), data.interval(), 10) {
+            Ok(r) => {
+                let mut modes: Vec<era::EraMode> = r
+                    .modes
+                    .into_iter()
+                    .filter(|m| m.physical && m.damping_ratio < 0.5 && m.contribution > 0.05)
+                    .collect();
+                modes.sort_by(|a, b| b.contribution.total_cmp(&a.contribution));
+                modes
+            }
+            Err(_) => Vec::new(),
+        }
+    };
+    let mut findings = Vec::new();
+    if let Some(o) = outputs.iter().max_by(|a, b| a.share.total_cmp(&b.share)) {
+        findings.push(format!("output `{}` carries {:.0} % of the error", o.name, 100.0 * o.share));
+    }
+    for o in &outputs {
+        if o.whiteness_p < 1e-3 {
+            findings.push(format!(
+                "the `{}` residual is not white (Ljung–Box p = {:.1e})",
+                o.name, o.whiteness_p
+            ));
+        }
+        if o.early_to_late > 3.0 {
+            findings.push(format!(
+                "the `{}` residual is {:.1}× larger early in the record than late (amplitude-dependent)",
+                o.name, o.early_to_late
+            ));
+        } else if o.early_to_late < 1.0 / 3.0 {
+            findings.push(format!(
+                "the `{}` residual grows toward the end of the record (small-amplitude effect)",
+                o.name
+            ));
+        }
+    }
+    if decrement_vs_amplitude.len() >= 3 {
+        if decrement_trend > 1.0 {
+            findings.push("damping grows with amplitude (drag-like)".into());
+        } else if decrement_trend < -1.0 {
+            findings.push("damping grows as the motion dies out (dry-friction-like)".into());
+        }
+    }
+    for m in residual_modes.iter().take(2) {
+        findings.push(format!(
+            "the residual holds a {:.3} Hz mode ({:.1} % damping)",
+            m.frequency_hz,
+            100.0 * m.damping_ratio
+        ));
+    }
+    Localisation { outputs, windows, decrement_vs_amplitude, decrement_trend, residual_modes, findings }
+}
+
+/// Slope of y on x, divided by the mean of y.
+fn trend(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    if points.len() < 3 {
+        return 0.0;
+    }
+    let (mx, my) = (points.iter().map(|p| p.0).sum::<f64>() / n, points.iter().map(|p| p.1).sum::<f64>() / n);
+    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    if sxx == 0.0 || my == 0.0 { 0.0 } else { sxy / sxx / my }
+}

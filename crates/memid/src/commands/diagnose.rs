@@ -1,0 +1,187 @@
+//! `memid diagnose`: find where model and data disagree, name the missing effect, add it.
+
+use crate::io::{Inputs, load_model, names, read_measurement, write_atomic};
+use crate::output::fit_json;
+use crate::progress::spinner;
+use crate::report::Report;
+use anyhow::{Result, bail};
+use discrepancy::{DiagnoseOptions, Diagnosis, diagnose};
+use serde_json::{Value, json};
+use std::path::PathBuf;
+
+/// Find the physical effect a model is missing: baseline fit, localisation, candidate refits
+/// scored by BIC, and the augmented model.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Model file (RON).
+    #[arg(long)]
+    model: PathBuf,
+    /// Measured data (CSV with header t,<outputs>).
+    #[arg(long)]
+    data: PathBuf,
+    /// Parameters refitted in the baseline and in every candidate, comma-separated.
+    #[arg(long)]
+    free: String,
+    /// Override a parameter first, NAME=VALUE (repeatable).
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    set: Vec<String>,
+    /// Keep every R-th sample after an anti-aliasing filter.
+    #[arg(long, value_name = "R")]
+    decimate: Option<usize>,
+    /// Only try these catalog effects, comma-separated.
+    #[arg(long)]
+    only: Option<String>,
+    /// Evidence needed to name an effect: ΔBIC below −THRESHOLD.
+    #[arg(long, default_value_t = 10.0)]
+    threshold: f64,
+    /// Write the augmented model as a new RON file.
+    #[arg(short = 'o', long = "output")]
+    output: Option<PathBuf>,
+    /// Write the diagnosis as JSON to FILE (`-` for standard output; suppresses the table).
+    #[arg(long, value_name = "FILE")]
+    json: Option<PathBuf>,
+    /// Write a report (residual plots before and after, scores) into DIR.
+    #[arg(long, value_name = "DIR")]
+    report: Option<PathBuf>,
+}
+
+/// The diagnosis as JSON (docs/json.md).
+pub fn diagnosis_json(d: &Diagnosis, output_names: &[&str]) -> Value {
+    let chosen = d.chosen.map(|i| &d.candidates[i]);
+    json!({
+        "effect": d.effect(),
+        "label": chosen.map(|c| c.label.clone()),
+        "parameters": chosen.map_or(Vec::new(), |c| c.parameters.iter().map(|p| json!({
+            "name": p.name, "value": p.value, "std_error": p.std_error,
+        })).collect()),
+        "baseline_error": d.baseline_error(),
+        "augmented_error": d.augmented_error(),
+        "candidates": d.candidates.iter().map(|c| json!({
+            "effect": c.effect,
+            "label": c.label,
+            "error": if c.error.is_finite() { json!(c.error) } else { Value::Null },
+            "score": if c.score.is_finite() { json!(c.score) } else { Value::Null },
+            "delta_bic": if c.delta_bic.is_finite() { json!(c.delta_bic) } else { Value::Null },
+            "reduction": if c.reduction.is_finite() { json!(c.reduction) } else { Value::Null },
+            "whiteness_p": if c.whiteness_p.is_finite() { json!(c.whiteness_p) } else { Value::Null },
+            "parameters": c.parameters.iter().map(|p| json!({"name": p.name, "value": p.value, "std_error": p.std_error})).collect::<Vec<_>>(),
+            "failure": c.failure,
+        })).collect::<Vec<_>>(),
+        "localisation": {
+            "findings": d.localisation.findings,
+            "outputs": d.localisation.outputs.iter().map(|o| json!({
+                "name": o.name, "share": o.share, "rms": o.rms, "early_to_late": o.early_to_late, "whiteness_p": o.whiteness_p,
+            })).collect::<Vec<_>>(),
+            "windows": d.localisation.windows.iter().map(|(a, b, s)| json!({"start": a, "end": b, "share": s})).collect::<Vec<_>>(),
+            "decrement_vs_amplitude": d.localisation.decrement_vs_amplitude,
+            "decrement_trend": d.localisation.decrement_trend,
+            "residual_modes": d.localisation.residual_modes.iter().map(|m| json!({
+                "frequency_hz": m.frequency_hz, "damping_ratio": m.damping_ratio, "contribution": m.contribution,
+            })).collect::<Vec<_>>(),
+        },
+        "baseline": fit_json(&d.baseline, output_names),
+    })
+}
+
+/// The scores as a table.
+pub fn diagnosis_table(d: &Diagnosis) -> String {
+    let mut out = String::from("localisation:\n");
+    for f in &d.localisation.findings {
+        out += &format!("  - {f}\n");
+    }
+    out += &format!(
+        "\n{:<34} {:>12} {:>10} {:>11}  parameters\n",
+        "candidate", "‖Y_error‖", "reduction", "ΔBIC"
+    );
+    for c in &d.candidates {
+        let params = c
+            .parameters
+            .iter()
+            .map(|p| format!("{} = {:.5} ± {:.2e}", p.name, p.value, p.std_error))
+            .collect::<Vec<_>>()
+            .join(", ");
+        match &c.failure {
+            Some(why) => out += &format!("{:<34} failed: {why}\n", c.label),
+            None => {
+                out += &format!(
+                    "{:<34} {:>12.5e} {:>9.1}% {:>11.1}  {params}\n",
+                    c.label,
+                    c.error,
+                    100.0 * c.reduction,
+                    c.delta_bic
+                )
+            }
+        }
+    }
+    out += &format!(
+        "\nbaseline ‖Y_error‖ {:.5e} → augmented {:.5e} ({:.1} % smaller)\nnamed effect: {}\n",
+        d.baseline_error(),
+        d.augmented_error(),
+        100.0 * (1.0 - d.augmented_error() / d.baseline_error()),
+        d.chosen.map_or("none (no candidate passes ΔBIC < −threshold)".to_string(), |i| d.candidates[i]
+            .label
+            .clone())
+    );
+    out
+}
+
+/// Runs the command.
+pub fn run(args: Args) -> Result<()> {
+    let mut inputs = Inputs::default();
+    let model = load_model(&args.model, &args.set, &mut inputs)?;
+    inputs.add(&args.data);
+    let mut data = read_measurement(&args.data)?;
+    for out in [&args.output, &args.json].into_iter().flatten() {
+        if out.as_os_str() != "-" {
+            inputs.guard(out)?;
+        }
+    }
+    if let Some(r) = args.decimate {
+        data = data.decimate(r)?;
+    }
+    let free = names(&args.free);
+    if free.is_empty() {
+        bail!("--free needs at least one parameter name");
+    }
+    if !(args.threshold.is_finite() && args.threshold >= 0.0) {
+        bail!("--threshold must be a finite number ≥ 0, got {}", args.threshold);
+    }
+    let mut options = DiagnoseOptions::new(&free.iter().map(|s| s.as_str()).collect::<Vec<_>>());
+    options.bic_threshold = args.threshold;
+    options.only = args.only.as_deref().map(names).unwrap_or_default();
+    let bar = spinner("diagnosing: baseline fit, localisation, candidate refits", args.json.is_some());
+    let d = diagnose(&model, &data, &options)?;
+    bar.finish_and_clear();
+    let json = diagnosis_json(&d, &model.output_names());
+    match &args.json {
+        Some(p) if p.as_os_str() == "-" => println!("{}", serde_json::to_string_pretty(&json)?),
+        Some(p) => write_atomic(p, serde_json::to_string_pretty(&json)?.as_bytes())?,
+        None => print!("{}", diagnosis_table(&d)),
+    }
+    if let Some(path) = &args.output {
+        write_atomic(path, d.augmented().to_ron().as_bytes())?;
+        if args.json.is_none() {
+            println!("augmented model written to {}", path.display());
+        }
+    }
+    if let Some(dir) = &args.report {
+        let aligned = discrepancy::align(&model, &data)?;
+        let mut report = Report::new(dir, "memid diagnose")?;
+        report.text(&format!("```text\n{}```\n", diagnosis_table(&d)));
+        report.fit("baseline", "Baseline model", &aligned, &d.baseline)?;
+        if let Some(outcome) = d.chosen.and_then(|i| d.candidates[i].outcome.as_ref()) {
+            report.fit(
+                "augmented",
+                &format!("With {}", d.candidates[d.chosen.unwrap_or(0)].label),
+                &aligned,
+                outcome,
+            )?;
+        }
+        report.json("diagnosis.json", &json)?;
+        report.finish()?;
+        if args.json.is_none() {
+            println!("report written to {}", dir.join("report.md").display());
+        }
+    }
+    Ok(())
+}
