@@ -1,7 +1,8 @@
-//! Benches of the exponential, its Fréchet derivative and the MEM propagator.
+//! Benches of the exponential, its Fréchet derivative, the MEM propagator and iteration.
 
-use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use faer::Mat;
+use memid_benches::{SIZES, family, iteration_flops};
 use std::hint::black_box;
 use test_problems::ModalFamily;
 
@@ -15,6 +16,9 @@ fn bench_expm(c: &mut Criterion) {
     let mut group = c.benchmark_group("expm");
     for n in [8usize, 16, 64, 256, 512] {
         let a = system_matrix(n);
+        if n >= 256 {
+            group.sample_size(20);
+        }
         group.bench_with_input(BenchmarkId::from_parameter(n), &a, |b, a| {
             b.iter(|| expm::expm(black_box(a.as_ref())).unwrap())
         });
@@ -27,9 +31,7 @@ fn bench_frechet(c: &mut Criterion) {
     for n in [8usize, 16, 64, 256, 512] {
         let a = system_matrix(n);
         for j in [1usize, 5, 20] {
-            if n >= 256 && j == 20 {
-                group.sample_size(10);
-            }
+            group.sample_size(if n >= 256 { 10 } else { 30 });
             let es: Vec<Mat<f64>> = (0..j).map(|k| test_problems::gaussian(n, n, k as u64)).collect();
             let refs: Vec<_> = es.iter().map(|e| e.as_ref()).collect();
             group.bench_with_input(BenchmarkId::new(format!("j{j}"), n), &refs, |b, refs| {
@@ -41,23 +43,61 @@ fn bench_frechet(c: &mut Criterion) {
 }
 
 fn bench_propagator(c: &mut Criterion) {
-    // The paper's size: N = 8 states, j = 2 parameters, p = 3 outputs, K = 400 samples.
-    let family = ModalFamily::new(4, 2, 3, 7);
-    let a = family.a(&family.p_nominal);
-    let das: Vec<Mat<f64>> = (0..2).map(|i| family.da(i)).collect();
-    let refs: Vec<_> = das.iter().map(|d| d.as_ref()).collect();
-    let h = 1.0 / 12.8;
-    c.bench_function("propagator/paper/build", |b| {
-        b.iter(|| {
-            expm::SensitivityPropagator::new(black_box(a.as_ref()), &refs, family.c.as_ref(), h).unwrap()
-        })
-    });
-    let prop = expm::SensitivityPropagator::new(a.as_ref(), &refs, family.c.as_ref(), h).unwrap();
-    let mut out = expm::Response::zeros(400, 3, 2);
-    c.bench_function("propagator/paper/propagate", |b| {
-        b.iter(|| prop.propagate_into(black_box(&family.x0), None, &mut out).unwrap())
-    });
+    let mut group = c.benchmark_group("propagator");
+    for size in SIZES {
+        let fam = family(size);
+        let a = fam.a(&fam.p_nominal);
+        let das: Vec<Mat<f64>> = (0..size.params).map(|i| fam.da(i)).collect();
+        let refs: Vec<_> = das.iter().map(|d| d.as_ref()).collect();
+        let prop = expm::SensitivityPropagator::new(a.as_ref(), &refs, fam.c.as_ref(), 1.0 / 12.8).unwrap();
+        let mut out = expm::Response::zeros(size.samples, size.outputs, size.params);
+        if size.name == "large" {
+            group.sample_size(10);
+        }
+        group.bench_function(BenchmarkId::new("propagate", size.name), |b| {
+            b.iter(|| prop.propagate_into(black_box(&fam.x0), None, &mut out).unwrap())
+        });
+    }
+    group.finish();
 }
 
-criterion_group!(benches, bench_expm, bench_frechet, bench_propagator);
+fn bench_iteration(c: &mut Criterion) {
+    let mut group = c.benchmark_group("mem_iteration");
+    for size in SIZES {
+        let fam = family(size);
+        let model = mem::LinearResponse(fam.clone());
+        let truth: Vec<f64> = fam
+            .p_nominal
+            .iter()
+            .enumerate()
+            .map(|(i, v)| v * (1.0 + 0.05 * ((i % 3) as f64 - 1.0)))
+            .collect();
+        let data = test_problems::simulate_measurement(&model, &truth, 1.0 / 12.8, size.samples, 0.01, 1);
+        let experiments = [mem::Experiment::normalized(&model, &data)];
+        if size.name == "large" {
+            group.sample_size(10);
+        }
+        group.throughput(Throughput::Elements(iteration_flops(size) as u64));
+        group.bench_function(size.name, |b| {
+            b.iter(|| mem::gauss_newton_step(black_box(&experiments), &fam.p_nominal, 1e-10).unwrap())
+        });
+    }
+    group.finish();
+}
+
+fn bench_paper_fit(c: &mut Criterion) {
+    // A whole fit of the paper's problem from the fixture's initial values: C_v and K_p of the
+    // slewing plant to the fixture's 12.8 Hz potentiometer signal (400-sample class).
+    let text = plant::PAPER_MODEL_RON
+        .replace("outputs: [Potentiometer, Tachometer, StrainGauge]", "outputs: [Potentiometer]");
+    let position = plant::SlewingModel::from_ron(&text, "position").unwrap();
+    let adapter = slewing::SlewingFitModel::new(position, &["cv", "kp"]).unwrap();
+    let p0 = adapter.values();
+    let model = adapter.response();
+    let data = test_problems::simulate_measurement(&model, &[0.15, 6.8], 1.0 / 12.8, 385, 0.01, 5);
+    let experiments = [mem::Experiment::new(&model, &data)];
+    c.bench_function("fit/paper", |b| b.iter(|| mem::Fit::new().run(black_box(&experiments), &p0).unwrap()));
+}
+
+criterion_group!(benches, bench_expm, bench_frechet, bench_propagator, bench_iteration, bench_paper_fit);
 criterion_main!(benches);

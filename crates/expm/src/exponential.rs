@@ -42,7 +42,7 @@ pub fn expm(a: MatRef<'_, f64>) -> Result<Mat<f64>, ExpmError> {
         exact_diagonals(&mut r, a, scaled.squarings);
     }
     for i in (0..scaled.squarings).rev() {
-        r = &r * &r;
+        r = crate::kernel::mul(&r, &r);
         if triangular {
             exact_diagonals(&mut r, a, i);
         }

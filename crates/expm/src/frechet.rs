@@ -9,6 +9,7 @@
 //! computed once in [`ExpmFrechet::new`] and shared by every direction.
 
 use crate::exponential::{overflow_check, pade_quotient};
+use crate::kernel::mul;
 use crate::pade::{self, PadeParts, Scaled, Target, combine};
 use crate::{ExpmError, check};
 use faer::linalg::solvers::{PartialPivLu, Solve};
@@ -49,7 +50,7 @@ impl ExpmFrechet {
         let mut squares = Vec::with_capacity(scaled.squarings as usize + 1);
         squares.push(r0);
         for k in 0..scaled.squarings as usize {
-            let next = &squares[k] * &squares[k];
+            let next = mul(&squares[k], &squares[k]);
             squares.push(next);
         }
         let last = squares.pop().expect("at least R_0");
@@ -93,24 +94,27 @@ impl ExpmFrechet {
         // M_k = d(X^{2k}) in direction F.
         let mut m: Vec<Mat<f64>> = Vec::with_capacity(p.len());
         m.push(Mat::zeros(self.n, self.n));
-        m.push(x * &f + &f * x);
+        m.push(mul(x, &f) + mul(&f, x));
         if p.len() > 2 {
-            m.push(&p[1] * &m[1] + &m[1] * &p[1]);
+            m.push(mul(&p[1], &m[1]) + mul(&m[1], &p[1]));
         }
         if p.len() > 3 {
-            m.push(&p[2] * &m[1] + &m[2] * &p[1]);
+            m.push(mul(&p[2], &m[1]) + mul(&m[2], &p[1]));
         }
         if p.len() > 4 {
-            m.push(&p[2] * &m[2] + &m[2] * &p[2]);
+            m.push(mul(&p[2], &m[2]) + mul(&m[2], &p[2]));
         }
         let (lu_u, lu_v) = match &self.parts.z {
             Some((z1, z2)) => {
                 let lz1 = combine(&[(b[13], &m[3]), (b[11], &m[2]), (b[9], &m[1])]);
                 let lz2 = combine(&[(b[12], &m[3]), (b[10], &m[2]), (b[8], &m[1])]);
-                let lw = &p[3] * &lz1 + &m[3] * z1 + combine(&[(b[7], &m[3]), (b[5], &m[2]), (b[3], &m[1])]);
-                let lu_u = x * &lw + &f * &self.parts.w;
-                let lu_v =
-                    &p[3] * &lz2 + &m[3] * z2 + combine(&[(b[6], &m[3]), (b[4], &m[2]), (b[2], &m[1])]);
+                let lw = mul(&p[3], &lz1)
+                    + mul(&m[3], z1)
+                    + combine(&[(b[7], &m[3]), (b[5], &m[2]), (b[3], &m[1])]);
+                let lu_u = mul(x, &lw) + mul(&f, &self.parts.w);
+                let lu_v = mul(&p[3], &lz2)
+                    + mul(&m[3], z2)
+                    + combine(&[(b[6], &m[3]), (b[4], &m[2]), (b[2], &m[1])]);
                 (lu_u, lu_v)
             }
             None => {
@@ -118,14 +122,14 @@ impl ExpmFrechet {
                     m.iter().enumerate().skip(1).map(|(k, mk)| (b[2 * k + 1], mk)).collect();
                 let even: Vec<(f64, &Mat<f64>)> =
                     m.iter().enumerate().skip(1).map(|(k, mk)| (b[2 * k], mk)).collect();
-                let lu_u = x * combine(&odd) + &f * &self.parts.w;
+                let lu_u = mul(x, &combine(&odd)) + mul(&f, &self.parts.w);
                 (lu_u, combine(&even))
             }
         };
-        let rhs = &lu_u + &lu_v + (&lu_u - &lu_v) * &self.squares[0];
+        let rhs = &lu_u + &lu_v + mul(&(&lu_u - &lu_v), &self.squares[0]);
         let mut l = self.lu.solve(&rhs);
         for r in &self.squares[..self.squares.len() - 1] {
-            l = r * &l + &l * r;
+            l = mul(r, &l) + mul(&l, r);
         }
         if check::finite("result", l.as_ref()).is_err() {
             return Err(ExpmError::Overflow { norm: self.norm, squarings: s.squarings });

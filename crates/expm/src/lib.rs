@@ -41,6 +41,7 @@ mod check;
 mod error;
 mod exponential;
 mod frechet;
+mod kernel;
 mod norm;
 mod pade;
 mod propagate;

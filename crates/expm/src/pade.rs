@@ -13,7 +13,8 @@
 //! Al-Mohy & Higham (2009b, Table 6.1), which bound the backward error of L(X, E) as well;
 //! the same Theorem 4.2 lets them be compared with α_p(X).
 
-use crate::norm::{estimate_abs_power_norm1, estimate_product_norm1, norm1};
+use crate::kernel::mul;
+use crate::norm::{abs_power_norm1, estimate_product_norm1, norm1};
 use faer::{Mat, MatRef};
 
 /// Unit roundoff of `f64`, 2⁻⁵³.
@@ -104,13 +105,16 @@ fn extra_squarings(x: MatRef<'_, f64>, m: usize) -> u32 {
     if norm == 0.0 {
         return 0;
     }
-    let alpha = estimate_abs_power_norm1(x, 2 * m + 1) / (reciprocal_leading_coefficient(m) * norm);
+    let alpha = abs_power_norm1(x, 2 * m + 1) / (reciprocal_leading_coefficient(m) * norm);
     if alpha.is_nan() || alpha <= 0.0 {
         return 0;
     }
     let value = ((alpha / UNIT_ROUNDOFF).log2() / (2 * m) as f64).ceil();
     if value.is_finite() && value > 0.0 { value as u32 } else { 0 }
 }
+
+/// Up to this order the norms of matrix powers are computed exactly.
+const EXACT_POWER_NORMS: usize = 64;
 
 /// Above this one-norm, A is halved before its powers are formed (A⁸ would overflow).
 const HUGE_NORM: f64 = 1e30;
@@ -163,31 +167,57 @@ pub(crate) fn choose(a: MatRef<'_, f64>, target: Target) -> Scaled {
         Scaled { degree, squarings, scale, x, powers }
     };
     let identity = Mat::<f64>::identity(n, n);
-    let a2 = a * a;
-    let d4_estimate = estimate_product_norm1(&[a2.as_ref(), a2.as_ref()]).powf(0.25);
-    let d6_estimate = estimate_product_norm1(&[a2.as_ref(), a2.as_ref(), a2.as_ref()]).powf(1.0 / 6.0);
+    let a_owned = a.to_owned();
+    let a2 = mul(&a_owned, &a_owned);
+    // Norms of powers that are not formed anyway: exact (by forming them) for small n, where a
+    // product is cheaper than the estimator's bookkeeping; estimated for large n.
+    let power_norm = |factors: &[&Mat<f64>]| {
+        if n <= EXACT_POWER_NORMS {
+            let mut product = factors[0].clone();
+            for f in &factors[1..] {
+                product = mul(&product, f);
+            }
+            norm1(product.as_ref())
+        } else {
+            estimate_product_norm1(&factors.iter().map(|f| f.as_ref()).collect::<Vec<_>>())
+        }
+    };
+    // For small n, A⁴ and A⁶ are formed now (they are needed for m ≥ 5 anyway).
+    let small = n <= EXACT_POWER_NORMS;
+    let a4_early = small.then(|| mul(&a2, &a2));
+    let a6_early = a4_early.as_ref().map(|a4| mul(&a2, a4));
+    let d4_estimate = match &a4_early {
+        Some(a4) => norm1(a4.as_ref()),
+        None => power_norm(&[&a2, &a2]),
+    }
+    .powf(0.25);
+    let d6_estimate = match &a6_early {
+        Some(a6) => norm1(a6.as_ref()),
+        None => power_norm(&[&a2, &a2, &a2]),
+    }
+    .powf(1.0 / 6.0);
     let eta1 = d4_estimate.max(d6_estimate);
     if eta1 <= target.threshold(3) && extra_squarings(a, 3) == 0 {
         return finish(3, 0, vec![identity, a2]);
     }
-    let a4 = &a2 * &a2;
+    let a4 = a4_early.unwrap_or_else(|| mul(&a2, &a2));
     let d4 = norm1(a4.as_ref()).powf(0.25);
     let eta2 = d4.max(d6_estimate);
     if eta2 <= target.threshold(5) && extra_squarings(a, 5) == 0 {
         return finish(5, 0, vec![identity, a2, a4]);
     }
-    let a6 = &a2 * &a4;
+    let a6 = a6_early.unwrap_or_else(|| mul(&a2, &a4));
     let d6 = norm1(a6.as_ref()).powf(1.0 / 6.0);
-    let d8 = estimate_product_norm1(&[a4.as_ref(), a4.as_ref()]).powf(0.125);
+    let d8 = power_norm(&[&a4, &a4]).powf(0.125);
     let eta3 = d6.max(d8);
     if eta3 <= target.threshold(7) && extra_squarings(a, 7) == 0 {
         return finish(7, 0, vec![identity, a2, a4, a6]);
     }
     if eta3 <= target.threshold(9) && extra_squarings(a, 9) == 0 {
-        let a8 = &a4 * &a4;
+        let a8 = mul(&a4, &a4);
         return finish(9, 0, vec![identity, a2, a4, a6, a8]);
     }
-    let d10 = estimate_product_norm1(&[a4.as_ref(), a6.as_ref()]).powf(0.1);
+    let d10 = power_norm(&[&a4, &a6]).powf(0.1);
     let eta4 = d8.max(d10);
     let eta5 = eta3.min(eta4);
     let mut squarings =
@@ -207,8 +237,11 @@ pub(crate) fn combine(terms: &[(f64, &Mat<f64>)]) -> Mat<f64> {
             continue;
         }
         for j in 0..ncols {
-            for i in 0..nrows {
-                out[(i, j)] += c * m[(i, j)];
+            let target =
+                out.col_mut(j).try_as_col_major_mut().expect("a fresh Mat is column-major").as_slice_mut();
+            let source = m.col(j).try_as_col_major().expect("an owned Mat is column-major").as_slice();
+            for (t, v) in target.iter_mut().zip(source) {
+                *t += c * v;
             }
         }
     }
@@ -232,16 +265,16 @@ pub(crate) fn evaluate(s: &Scaled) -> PadeParts {
     if s.degree == 13 {
         let z1 = combine(&[(b[13], &p[3]), (b[11], &p[2]), (b[9], &p[1])]);
         let z2 = combine(&[(b[12], &p[3]), (b[10], &p[2]), (b[8], &p[1])]);
-        let w = &p[3] * &z1 + combine(&[(b[7], &p[3]), (b[5], &p[2]), (b[3], &p[1]), (b[1], &p[0])]);
-        let v = &p[3] * &z2 + combine(&[(b[6], &p[3]), (b[4], &p[2]), (b[2], &p[1]), (b[0], &p[0])]);
-        let u = &s.x * &w;
+        let w = mul(&p[3], &z1) + combine(&[(b[7], &p[3]), (b[5], &p[2]), (b[3], &p[1]), (b[1], &p[0])]);
+        let v = mul(&p[3], &z2) + combine(&[(b[6], &p[3]), (b[4], &p[2]), (b[2], &p[1]), (b[0], &p[0])]);
+        let u = mul(&s.x, &w);
         PadeParts { u, v, w, z: Some((z1, z2)) }
     } else {
         let odd: Vec<(f64, &Mat<f64>)> = p.iter().enumerate().map(|(k, m)| (b[2 * k + 1], m)).collect();
         let even: Vec<(f64, &Mat<f64>)> = p.iter().enumerate().map(|(k, m)| (b[2 * k], m)).collect();
         let w = combine(&odd);
         let v = combine(&even);
-        let u = &s.x * &w;
+        let u = mul(&s.x, &w);
         PadeParts { u, v, w, z: None }
     }
 }

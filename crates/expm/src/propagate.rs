@@ -3,7 +3,7 @@
 use crate::frechet::ExpmFrechet;
 use crate::{ExpmError, check};
 use faer::linalg::matmul::matmul;
-use faer::{Accum, Mat, MatMut, MatRef, Par};
+use faer::{Accum, Mat, MatRef, Par};
 
 /// Outputs and output sensitivities of a free decay at K samples.
 ///
@@ -204,64 +204,371 @@ impl SensitivityPropagator {
         let k_samples = out.outputs.nrows();
         check::shape("outputs", out.outputs.as_ref(), k_samples, p)?;
         check::shape("sensitivities", out.sensitivities.as_ref(), k_samples * p, j)?;
-        let mut block = Mat::<f64>::zeros(n, j + 1);
-        let mut next = Mat::<f64>::zeros(n, j + 1);
-        let mut psi_x = Mat::<f64>::zeros(j * n, 1);
-        let mut y = Mat::<f64>::zeros(p, j + 1);
-        let mut dc_x = Mat::<f64>::zeros(if self.dc.is_some() { j * p } else { 0 }, 1);
-        block.col_mut(0).copy_from(x0m.col(0));
+        let mut s0 = Mat::<f64>::zeros(n, j);
         if let Some(d) = dx0 {
             check::shape("dx0", d, n, j)?;
             check::finite("dx0", d)?;
-            block.as_mut().submatrix_mut(0, 1, n, j).copy_from(d);
+            s0.copy_from(d);
         }
-        let par = if n >= 192 { faer::get_global_parallelism() } else { Par::Seq };
+        if k_samples == 0 {
+            return Ok(());
+        }
+        if n <= SMALL_STATES {
+            self.propagate_small(x0, s0.as_ref(), out);
+        } else {
+            self.propagate_chunked(x0, s0.as_ref(), out);
+        }
+        Ok(())
+    }
+
+    /// Tiny systems: plain loops over column-major slices, one pass per sample, compiled for
+    /// the best instruction set of the machine at run time (pulp's dispatch), so that the short
+    /// inner loops vectorize with AVX2/AVX-512 where available.
+    fn propagate_small(&self, x0: &[f64], s0: MatRef<'_, f64>, out: &mut Response) {
+        pulp::Arch::new().dispatch(SmallLoop { prop: self, x0, s0, out });
+    }
+
+    /// Dispatches to a kernel with the state dimension as a compile-time constant (fully
+    /// unrolled and vectorized) when N ≤ 16 and p ≤ 8, else to the generic loop.
+    #[inline(always)]
+    fn small_dispatch(&self, x0: &[f64], s0: MatRef<'_, f64>, out: &mut Response) {
+        macro_rules! fixed {
+            ($($n:literal)*) => {
+                match self.n_states {
+                    $($n if self.n_outputs <= LANES => self.fixed_loop::<$n>(x0, s0, out),)*
+                    _ => self.small_loop(x0, s0, out),
+                }
+            };
+        }
+        fixed!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
+    }
+
+    /// The small loop with N fixed at compile time; outputs padded to 8 lanes.
+    #[inline(always)]
+    fn fixed_loop<const N: usize>(&self, x0: &[f64], s0: MatRef<'_, f64>, out: &mut Response) {
+        let (j, p) = (self.n_params, self.n_outputs);
+        let column = |m: MatRef<'_, f64>, col: usize, row0: usize| -> [f64; N] {
+            std::array::from_fn(|r| m[(row0 + r, col)])
+        };
+        let phi: Vec<[f64; N]> = (0..N).map(|l| column(self.phi.as_ref(), l, 0)).collect();
+        // psi[l·j + i] = Ψ_i[:, l]
+        let psi: Vec<[f64; N]> = (0..N)
+            .flat_map(|l| (0..j).map(move |i| (l, i)))
+            .map(|(l, i)| column(self.psi.as_ref(), l, i * N))
+            .collect();
+        let lanes = |m: MatRef<'_, f64>, col: usize, row0: usize| -> [f64; LANES] {
+            std::array::from_fn(|r| if r < p { m[(row0 + r, col)] } else { 0.0 })
+        };
+        let c: Vec<[f64; LANES]> = (0..N).map(|l| lanes(self.c.as_ref(), l, 0)).collect();
+        // dc[l·j + i] = ∂C/∂P_i[:, l]
+        let dc: Option<Vec<[f64; LANES]>> = self.dc.as_ref().map(|d| {
+            (0..N)
+                .flat_map(|l| (0..j).map(move |i| (l, i)))
+                .map(|(l, i)| lanes(d.as_ref(), l, i * p))
+                .collect()
+        });
+        let mut x: [f64; N] = std::array::from_fn(|r| x0[r]);
+        let mut sens: Vec<[f64; N]> = (0..j).map(|i| std::array::from_fn(|r| s0[(r, i)])).collect();
+        let mut sens_next = sens.clone();
+        let k_samples = out.outputs.nrows();
+        let mut outputs = vec![0.0; k_samples * LANES];
+        let mut sensitivities = vec![0.0; k_samples * LANES * j];
         for k in 0..k_samples {
-            matmul(y.as_mut(), Accum::Replace, self.c.as_ref(), block.as_ref(), 1.0, Par::Seq);
-            if let Some(dc) = &self.dc {
-                let x = block.as_ref().col(0).as_mat();
-                matmul(dc_x.as_mut(), Accum::Replace, dc.as_ref(), x, 1.0, Par::Seq);
-                for i in 0..j {
-                    for o in 0..p {
-                        y[(o, i + 1)] += dc_x[(i * p + o, 0)];
-                    }
+            let mut y = [0.0; LANES];
+            for l in 0..N {
+                for r in 0..LANES {
+                    y[r] += c[l][r] * x[l];
                 }
             }
-            store(y.as_ref(), k, out.outputs.as_mut(), out.sensitivities.as_mut());
+            outputs[k * LANES..(k + 1) * LANES].copy_from_slice(&y);
+            for i in 0..j {
+                let s = &sens[i];
+                let mut yi = [0.0; LANES];
+                for l in 0..N {
+                    for r in 0..LANES {
+                        yi[r] += c[l][r] * s[l];
+                    }
+                }
+                if let Some(dc) = &dc {
+                    for l in 0..N {
+                        for r in 0..LANES {
+                            yi[r] += dc[l * j + i][r] * x[l];
+                        }
+                    }
+                }
+                let at = (k * j + i) * LANES;
+                sensitivities[at..at + LANES].copy_from_slice(&yi);
+            }
             if k + 1 == k_samples {
                 break;
             }
-            matmul(next.as_mut(), Accum::Replace, self.phi.as_ref(), block.as_ref(), 1.0, par);
+            for i in 0..j {
+                let s = &sens[i];
+                let mut acc = [0.0; N];
+                for l in 0..N {
+                    for r in 0..N {
+                        acc[r] += phi[l][r] * s[l] + psi[l * j + i][r] * x[l];
+                    }
+                }
+                sens_next[i] = acc;
+            }
+            let mut x_next = [0.0; N];
+            for l in 0..N {
+                for r in 0..N {
+                    x_next[r] += phi[l][r] * x[l];
+                }
+            }
+            x = x_next;
+            std::mem::swap(&mut sens, &mut sens_next);
+        }
+        for o in 0..p {
+            for k in 0..k_samples {
+                out.outputs[(k, o)] = outputs[k * LANES + o];
+            }
+        }
+        for i in 0..j {
+            for k in 0..k_samples {
+                for o in 0..p {
+                    out.sensitivities[(k * p + o, i)] = sensitivities[(k * j + i) * LANES + o];
+                }
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn small_loop(&self, x0: &[f64], s0: MatRef<'_, f64>, out: &mut Response) {
+        let (n, j, p) = (self.n_states, self.n_params, self.n_outputs);
+        let cols = j + 1;
+        let phi = dense(self.phi.as_ref());
+        let psi = dense(self.psi.as_ref()); // (j·n) × n, column l = [Ψ_1[:, l]; …; Ψ_j[:, l]]
+        let c = dense(self.c.as_ref());
+        let dc = self.dc.as_ref().map(|d| dense(d.as_ref()));
+        let mut block = vec![0.0; n * cols];
+        let mut next = vec![0.0; n * cols];
+        let mut y = vec![0.0; p * cols];
+        block[..n].copy_from_slice(x0);
+        for i in 0..j {
+            for r in 0..n {
+                block[(i + 1) * n + r] = s0[(r, i)];
+            }
+        }
+        let k_samples = out.outputs.nrows();
+        let mut outputs = vec![0.0; k_samples * p];
+        let mut sensitivities = vec![0.0; k_samples * p * j];
+        for k in 0..k_samples {
+            // y = C·[x, S] (+ ∂C/∂P_i x)
+            y.iter_mut().for_each(|v| *v = 0.0);
+            for (yc, bc) in y.chunks_exact_mut(p).zip(block.chunks_exact(n)) {
+                for (cl, v) in c.chunks_exact(p).zip(bc) {
+                    for (yo, co) in yc.iter_mut().zip(cl) {
+                        *yo += co * v;
+                    }
+                }
+            }
+            if let Some(dc) = dc.as_ref().filter(|_| j > 0) {
+                for (dl, v) in dc.chunks_exact(j * p).zip(&block[..n]) {
+                    for (yo, d) in y[p..].iter_mut().zip(dl) {
+                        *yo += d * v;
+                    }
+                }
+            }
+            outputs[k * p..(k + 1) * p].copy_from_slice(&y[..p]);
+            sensitivities[k * p * j..(k + 1) * p * j].copy_from_slice(&y[p..]);
+            if k + 1 == k_samples {
+                break;
+            }
+            // [x, S] ← Φ·[x, S] + [0, Ψ x]
+            next.iter_mut().for_each(|v| *v = 0.0);
+            for (target, bc) in next.chunks_exact_mut(n).zip(block.chunks_exact(n)) {
+                for (fl, v) in phi.chunks_exact(n).zip(bc) {
+                    for (t, f) in target.iter_mut().zip(fl) {
+                        *t += f * v;
+                    }
+                }
+            }
             if j > 0 {
-                matmul(
-                    psi_x.as_mut(),
-                    Accum::Replace,
-                    self.psi.as_ref(),
-                    block.as_ref().col(0).as_mat(),
-                    1.0,
-                    par,
-                );
-                for i in 0..j {
-                    let mut col = next.as_mut().col_mut(i + 1);
-                    for r in 0..n {
-                        col[r] += psi_x[(i * n + r, 0)];
+                for (pl, v) in psi.chunks_exact(j * n).zip(&block[..n]) {
+                    for (t, f) in next[n..].iter_mut().zip(pl) {
+                        *t += f * v;
                     }
                 }
             }
             std::mem::swap(&mut block, &mut next);
         }
-        Ok(())
+        // Scatter into the column-major result matrices (sample-major buffers above).
+        for o in 0..p {
+            for k in 0..k_samples {
+                out.outputs[(k, o)] = outputs[k * p + o];
+            }
+        }
+        for i in 0..j {
+            for k in 0..k_samples {
+                for o in 0..p {
+                    out.sensitivities[(k * p + o, i)] = sensitivities[k * p * j + i * p + o];
+                }
+            }
+        }
+    }
+
+    /// Larger systems, in chunks of T samples: the states of the chunk by a recursion of
+    /// matrix–vector products, then Ψ·X for the whole chunk as one GEMM, then the sensitivity
+    /// recursion S ← Φ S + W as products of Φ with the N×j block — split over two threads by
+    /// parameter — and the outputs of the chunk as GEMMs with C. All buffers are allocated once.
+    fn propagate_chunked(&self, x0: &[f64], s0: MatRef<'_, f64>, out: &mut Response) {
+        let (n, j, p) = (self.n_states, self.n_params, self.n_outputs);
+        let k_samples = out.outputs.nrows();
+        let chunk = CHUNK.min(k_samples);
+        let mut x_chunk = Mat::<f64>::zeros(n, chunk);
+        let mut w = Mat::<f64>::zeros(j * n, chunk);
+        let mut y_chunk = Mat::<f64>::zeros(p, chunk);
+        let mut x = Mat::<f64>::zeros(n, 1);
+        let mut x_next = Mat::<f64>::zeros(n, 1);
+        x.col_mut(0).copy_from(MatRef::from_column_major_slice(x0, n, 1).col(0));
+        // Parameter groups, one per thread; each keeps its S block, its next block and the
+        // sensitivity history of the chunk (N × (group·T)) for one output GEMM per chunk.
+        let groups = if j >= 2 && n >= 64 { 2 } else { 1 };
+        let bounds: Vec<(usize, usize)> =
+            (0..groups).map(|g| (g * j / groups, (g + 1) * j / groups)).collect();
+        let mut states: Vec<GroupState> = bounds
+            .iter()
+            .map(|&(a, b)| GroupState {
+                first: a,
+                s: s0.subcols(a, b - a).to_owned(),
+                s_next: Mat::zeros(n, b - a),
+                history: Mat::zeros(n, (b - a) * chunk),
+                y: Mat::zeros(p, (b - a) * chunk),
+            })
+            .collect();
+        let par = faer::get_global_parallelism();
+        let mut start = 0;
+        while start < k_samples {
+            let len = chunk.min(k_samples - start);
+            // States x_start .. x_start+len−1 (x holds x_start on entry).
+            for t in 0..len {
+                x_chunk.col_mut(t).copy_from(x.col(0));
+                matmul(x_next.as_mut(), Accum::Replace, self.phi.as_ref(), x.as_ref(), 1.0, Par::Seq);
+                std::mem::swap(&mut x, &mut x_next);
+            }
+            let xc = x_chunk.as_ref().subcols(0, len);
+            // W = [Ψ_1; …; Ψ_j]·X for the chunk, one GEMM.
+            matmul(w.as_mut().subcols_mut(0, len), Accum::Replace, self.psi.as_ref(), xc, 1.0, par);
+            matmul(y_chunk.as_mut().subcols_mut(0, len), Accum::Replace, self.c.as_ref(), xc, 1.0, par);
+            for t in 0..len {
+                for o in 0..p {
+                    out.outputs[(start + t, o)] = y_chunk[(o, t)];
+                }
+            }
+            let phi = self.phi.as_ref();
+            let c = self.c.as_ref();
+            let w_ref = w.as_ref();
+            let run = |g: &mut GroupState| g.advance(phi, c, w_ref, len, n);
+            match states.as_mut_slice() {
+                [a, b] => {
+                    rayon::join(|| run(a), || run(b));
+                }
+                all => all.iter_mut().for_each(run),
+            }
+            for g in &states {
+                let width = g.s.ncols();
+                for t in 0..len {
+                    for i in 0..width {
+                        for o in 0..p {
+                            out.sensitivities[((start + t) * p + o, g.first + i)] = g.y[(o, t * width + i)];
+                        }
+                    }
+                }
+            }
+            if let Some(dc) = &self.dc {
+                // ∂C/∂P_i x_k for the chunk: one GEMM of the stacked ∂C with X.
+                let mut extra = Mat::<f64>::zeros(j * p, len);
+                matmul(extra.as_mut(), Accum::Replace, dc.as_ref(), xc, 1.0, par);
+                for t in 0..len {
+                    for i in 0..j {
+                        for o in 0..p {
+                            out.sensitivities[((start + t) * p + o, i)] += extra[(i * p + o, t)];
+                        }
+                    }
+                }
+            }
+            start += len;
+        }
     }
 }
 
-/// Copies y = C X_k (p × (j+1)) into row k of the outputs and rows k·p.. of S.
-#[inline]
-fn store(y: MatRef<'_, f64>, k: usize, mut outputs: MatMut<'_, f64>, mut sens: MatMut<'_, f64>) {
-    let p = y.nrows();
-    for o in 0..p {
-        outputs[(k, o)] = y[(o, 0)];
-        for i in 1..y.ncols() {
-            sens[(k * p + o, i - 1)] = y[(o, i)];
+/// The small-system loop as a pulp operation (compiled per instruction set).
+struct SmallLoop<'a> {
+    prop: &'a SensitivityPropagator,
+    x0: &'a [f64],
+    s0: MatRef<'a, f64>,
+    out: &'a mut Response,
+}
+
+impl pulp::WithSimd for SmallLoop<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        self.prop.small_dispatch(self.x0, self.s0, self.out);
+    }
+}
+
+/// Output lanes of the fixed-size kernels.
+const LANES: usize = 8;
+
+/// Samples per chunk of the large-system path.
+const CHUNK: usize = 128;
+/// Up to this many states the plain-loop path is used.
+const SMALL_STATES: usize = 32;
+
+/// The sensitivity block of one group of parameters.
+struct GroupState {
+    first: usize,
+    s: Mat<f64>,
+    s_next: Mat<f64>,
+    history: Mat<f64>,
+    y: Mat<f64>,
+}
+
+impl GroupState {
+    /// Records S_t and advances S_{t+1} = Φ S_t + W_t for the chunk, then Y = C·history.
+    fn advance(
+        &mut self,
+        phi: MatRef<'_, f64>,
+        c: MatRef<'_, f64>,
+        w: MatRef<'_, f64>,
+        len: usize,
+        n: usize,
+    ) {
+        let width = self.s.ncols();
+        for t in 0..len {
+            self.history.as_mut().subcols_mut(t * width, width).copy_from(&self.s);
+            matmul(self.s_next.as_mut(), Accum::Replace, phi, self.s.as_ref(), 1.0, Par::Seq);
+            for i in 0..width {
+                let wi = w.col(t).subrows((self.first + i) * n, n);
+                let mut col = self.s_next.as_mut().col_mut(i);
+                for r in 0..n {
+                    col[r] += wi[r];
+                }
+            }
+            std::mem::swap(&mut self.s, &mut self.s_next);
+        }
+        matmul(
+            self.y.as_mut().subcols_mut(0, len * width),
+            Accum::Replace,
+            c,
+            self.history.as_ref().subcols(0, len * width),
+            1.0,
+            Par::Seq,
+        );
+    }
+}
+
+/// A column-major copy of a matrix as a flat vector.
+fn dense(m: MatRef<'_, f64>) -> Vec<f64> {
+    let mut v = Vec::with_capacity(m.nrows() * m.ncols());
+    for j in 0..m.ncols() {
+        for i in 0..m.nrows() {
+            v.push(m[(i, j)]);
         }
     }
+    v
 }

@@ -30,6 +30,40 @@ pub enum Termination {
     Diverged,
 }
 
+/// One plain iteration of the paper's Algorithm: outputs and sensitivities at P (steps 1–2) and
+/// the SVD least-squares step ΔP (step 3), without line search or statistics.
+#[derive(Clone, Debug)]
+pub struct GaussNewtonStep {
+    /// ΔP.
+    pub delta: Vec<f64>,
+    /// ‖Y_error‖ at P (Eq. 22, weighted).
+    pub error: f64,
+    /// Singular values of the column-scaled S.
+    pub singular_values: Vec<f64>,
+    /// How many were kept.
+    pub rank: usize,
+}
+
+/// Computes one [`GaussNewtonStep`] at `p`.
+///
+/// # Errors
+/// Model failures, SVD failure.
+pub fn gauss_newton_step(
+    experiments: &[Experiment<'_>],
+    p: &[f64],
+    rank_cutoff: f64,
+) -> Result<GaussNewtonStep, MemError> {
+    let e = evaluate(experiments, p)?;
+    let solver = StepSolver::new(e.sensitivity.as_ref(), &e.residual, rank_cutoff)?;
+    let (delta, _) = solver.step(0.0);
+    Ok(GaussNewtonStep {
+        delta,
+        error: e.cost,
+        singular_values: solver.singular_values.clone(),
+        rank: solver.rank,
+    })
+}
+
 /// The MEM solver and its settings. Build with [`Fit::new`] and the `with_*` setters.
 #[derive(Clone, Debug)]
 pub struct Fit {

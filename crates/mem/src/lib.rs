@@ -82,7 +82,7 @@ mod solve;
 
 pub use data::Measurement;
 pub use error::{BoxedError, MemError};
-pub use fit::{Fit, Safeguard, Termination};
+pub use fit::{Fit, GaussNewtonStep, Safeguard, Termination, gauss_newton_step};
 pub use model::{Experiment, LinearModel, LinearResponse, Linearized, ResponseModel};
 pub use report::{
     Combination, DerivativeCheck, FitReport, Identifiability, IterationRecord, Statistics, t_quantile_975,

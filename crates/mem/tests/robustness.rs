@@ -166,3 +166,37 @@ fn mismatched_shapes_are_errors() {
         mem::Measurement::new(vec!["a".into(), "b".into()], 0.0, 0.05, Mat::zeros(10, 2)).unwrap();
     assert!(Fit::new().run(&[Experiment::new(&model, &two_outputs)], &[0.2, 4.0]).is_err());
 }
+
+#[test]
+fn step_equals_the_pseudo_inverse_from_faers_own_thin_svd() {
+    // gauss_newton_step uses Householder QR + SVD of R; compare with faer's thin SVD of S
+    // applied directly (an independent route to the same least-squares solution).
+    let model = LinearResponse(test_problems::SpringChain { x0: [0.0, 0.01] });
+    let data = simulate_measurement(&model, &test_problems::SpringChain::TRUE, 0.02, 300, 0.01, 4);
+    let p = [35.0, 17.0, 0.35];
+    let step = mem::gauss_newton_step(&[Experiment::new(&model, &data)], &p, 1e-10).unwrap();
+    let mut out = expm::Response::zeros(300, 2, 3);
+    mem::ResponseModel::respond(&model, &p, 0.02, &mut out).unwrap();
+    let residual: Vec<f64> = (0..300)
+        .flat_map(|k| (0..2).map(move |o| (k, o)))
+        .map(|(k, o)| data.values()[(k, o)] - out.outputs[(k, o)])
+        .collect();
+    let scale: Vec<f64> = (0..3).map(|c| out.sensitivities.col(c).norm_l2()).collect();
+    let scaled = Mat::from_fn(600, 3, |i, c| out.sensitivities[(i, c)] / scale[c]);
+    let svd = scaled.thin_svd().unwrap();
+    for i in 0..3 {
+        assert!((svd.S()[i] / step.singular_values[i] - 1.0).abs() < 1e-10, "σ_{i}");
+    }
+    let (u, v) = (svd.U(), svd.V());
+    for c in 0..3 {
+        let delta: f64 = (0..3)
+            .map(|i| v[(c, i)] * (0..600).map(|r| u[(r, i)] * residual[r]).sum::<f64>() / svd.S()[i])
+            .sum::<f64>()
+            / scale[c];
+        assert!(
+            (delta - step.delta[c]).abs() < 1e-9 * (delta.abs() + 1e-12),
+            "ΔP_{c}: {delta} vs {}",
+            step.delta[c]
+        );
+    }
+}

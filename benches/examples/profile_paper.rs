@@ -1,0 +1,54 @@
+//! Times the pieces of one paper-size MEM iteration (development aid).
+use memid_benches::{SIZES, family};
+use std::time::Instant;
+
+fn time<F: FnMut()>(name: &str, reps: usize, mut f: F) {
+    f();
+    let t = Instant::now();
+    for _ in 0..reps {
+        f();
+    }
+    println!("{name:<28} {:>10.2} µs", t.elapsed().as_secs_f64() * 1e6 / reps as f64);
+}
+
+fn main() {
+    let size = SIZES[0];
+    let fam = family(size);
+    let a = fam.a(&fam.p_nominal);
+    let das: Vec<faer::Mat<f64>> = (0..size.params).map(|i| fam.da(i)).collect();
+    let refs: Vec<_> = das.iter().map(|d| d.as_ref()).collect();
+    let h = 1.0 / 12.8;
+    time("propagator build", 20000, || {
+        std::hint::black_box(expm::SensitivityPropagator::new(a.as_ref(), &refs, fam.c.as_ref(), h).unwrap());
+    });
+    let prop = expm::SensitivityPropagator::new(a.as_ref(), &refs, fam.c.as_ref(), h).unwrap();
+    let mut out = expm::Response::zeros(size.samples, size.outputs, size.params);
+    time("propagate", 20000, || prop.propagate_into(&fam.x0, None, &mut out).unwrap());
+    let s = faer::Mat::<f64>::from_fn(1200, 2, |i, j| ((i * 7 + j * 3) as f64).sin());
+    time("thin svd 1200x2", 20000, || {
+        std::hint::black_box(s.thin_svd().unwrap());
+    });
+    let model = mem::LinearResponse(fam.clone());
+    let data = test_problems::simulate_measurement(&model, &fam.p_nominal, h, size.samples, 0.01, 1);
+    let experiments = [mem::Experiment::normalized(&model, &data)];
+    qr_probe();
+    time("gauss_newton_step", 20000, || {
+        std::hint::black_box(mem::gauss_newton_step(&experiments, &fam.p_nominal, 1e-10).unwrap());
+    });
+}
+
+#[allow(dead_code)]
+fn qr_probe() {
+    let s = faer::Mat::<f64>::from_fn(1200, 2, |i, j| ((i * 7 + j * 3) as f64).sin());
+    time("qr 1200x2", 20000, || {
+        std::hint::black_box(s.qr());
+    });
+    let r = s.qr().R().to_owned();
+    time("svd of R 2x2", 20000, || {
+        std::hint::black_box(r.thin_svd().unwrap());
+    });
+    let q = s.qr();
+    time("qr + thin Q", 20000, || {
+        std::hint::black_box(q.compute_thin_Q());
+    });
+}
