@@ -14,31 +14,49 @@ pub(crate) struct Evaluation {
     pub cost: f64,
 }
 
-/// Simulates every experiment at P.
+/// Simulates every experiment at P (in parallel when there are several).
 pub(crate) fn evaluate(experiments: &[Experiment<'_>], p: &[f64]) -> Result<Evaluation, MemError> {
     let n_rows: usize = experiments.iter().map(|e| e.data.n_samples() * e.data.n_outputs()).sum();
     let mut residual = Vec::with_capacity(n_rows);
     let mut sensitivity = Mat::<f64>::zeros(n_rows, p.len());
     let mut row = 0;
-    for (index, e) in experiments.iter().enumerate() {
-        let (k, n_out) = (e.data.n_samples(), e.data.n_outputs());
-        let mut out = Response::zeros(k, n_out, p.len());
+    let simulate = |(index, e): (usize, &Experiment<'_>)| {
+        let mut out = Response::zeros(e.data.n_samples(), e.data.n_outputs(), p.len());
         e.model.respond(p, e.data.interval(), &mut out).map_err(|source| MemError::Model {
             experiment: index,
             parameters: p.to_vec(),
             source,
         })?;
+        Ok::<_, MemError>(out)
+    };
+    let responses: Vec<Response> = if experiments.len() > 1 {
+        use rayon::prelude::*;
+        experiments.par_iter().enumerate().map(simulate).collect::<Result<_, _>>()?
+    } else {
+        experiments.iter().enumerate().map(simulate).collect::<Result<_, _>>()?
+    };
+    for (e, out) in experiments.iter().zip(responses) {
+        let (k, n_out) = (e.data.n_samples(), e.data.n_outputs());
         let measured = e.data.values();
         for step in 0..k {
             for o in 0..n_out {
-                let w = e.weights[o];
-                residual.push(w * (measured[(step, o)] - out.outputs[(step, o)]));
-                for i in 0..p.len() {
-                    sensitivity[(row, i)] = w * out.sensitivities[(step * n_out + o, i)];
-                }
-                row += 1;
+                residual.push(e.weights[o] * (measured[(step, o)] - out.outputs[(step, o)]));
             }
         }
+        // Weighted sensitivities, column by column on contiguous slices.
+        for i in 0..p.len() {
+            let src =
+                out.sensitivities.col(i).try_as_col_major().expect("an owned Mat is column-major").as_slice();
+            let dst = sensitivity
+                .col_mut(i)
+                .try_as_col_major_mut()
+                .expect("an owned Mat is column-major")
+                .as_slice_mut();
+            for (r, (d, v)) in dst[row..row + k * n_out].iter_mut().zip(src).enumerate() {
+                *d = e.weights[r % n_out] * v;
+            }
+        }
+        row += k * n_out;
     }
     let cost = residual.iter().map(|r| r * r).sum();
     Ok(Evaluation { residual, sensitivity, cost })

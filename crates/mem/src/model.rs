@@ -84,7 +84,7 @@ impl<M: LinearModel> ResponseModel for LinearResponse<M> {
 /// One experiment: a model and the measurement it must reproduce, with output weights.
 pub struct Experiment<'a> {
     /// The model (with this experiment's initial condition and sensors).
-    pub model: &'a dyn ResponseModel,
+    pub model: &'a (dyn ResponseModel + Sync),
     /// The measured free decay.
     pub data: &'a Measurement,
     /// Weight per output (residuals are multiplied by it); see [`Measurement::rms_weights`].
@@ -93,12 +93,12 @@ pub struct Experiment<'a> {
 
 impl<'a> Experiment<'a> {
     /// An experiment with unit weights (the paper's Eq. 22 error).
-    pub fn new(model: &'a dyn ResponseModel, data: &'a Measurement) -> Self {
+    pub fn new(model: &'a (dyn ResponseModel + Sync), data: &'a Measurement) -> Self {
         Self { model, data, weights: vec![1.0; data.n_outputs()] }
     }
 
     /// Uses weights 1/RMS(measured output), so outputs of different units count alike.
-    pub fn normalized(model: &'a dyn ResponseModel, data: &'a Measurement) -> Self {
+    pub fn normalized(model: &'a (dyn ResponseModel + Sync), data: &'a Measurement) -> Self {
         Self { model, data, weights: data.rms_weights() }
     }
 

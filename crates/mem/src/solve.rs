@@ -91,7 +91,10 @@ fn householder_qr(s: MatRef<'_, f64>, scale: &[f64], r: &[f64]) -> (Mat<f64>, Ve
     let (m, j) = (s.nrows(), s.ncols());
     let mut a: Vec<f64> = Vec::with_capacity(m * j);
     for c in 0..j {
-        a.extend((0..m).map(|i| s[(i, c)] / scale[c]));
+        match s.col(c).try_as_col_major() {
+            Some(col) => a.extend(col.as_slice().iter().map(|v| v / scale[c])),
+            None => a.extend((0..m).map(|i| s[(i, c)] / scale[c])),
+        }
     }
     let mut b = r.to_vec();
     let mut diag = vec![0.0; j];
