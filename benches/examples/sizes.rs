@@ -72,6 +72,30 @@ fn paper_fit_time() -> f64 {
     })
 }
 
+/// Propagation against the modal form for growing N (j = 5, p = 4, K = 2000).
+fn crossover() -> Vec<serde_json::Value> {
+    [8usize, 12, 16, 24, 32, 48, 64, 128, 200]
+        .iter()
+        .map(|&n| {
+            let fam = test_problems::ModalFamily::new(n / 2, 5, 4, 2026);
+            let a = fam.a(&fam.p_nominal);
+            let das: Vec<Mat<f64>> = (0..5).map(|i| fam.da(i)).collect();
+            let refs: Vec<_> = das.iter().map(|d| d.as_ref()).collect();
+            let mut out = expm::Response::zeros(2000, 4, 5);
+            let mut run = |strategy| {
+                let mut method = expm::Method::Propagation;
+                let t = median_seconds(if n <= 64 { 31 } else { 7 }, || {
+                    method = expm::free_decay(a.as_ref(), &refs, fam.c.as_ref(), None, &fam.x0, None, 1.0 / 12.8, &mut out, strategy).unwrap();
+                });
+                (t, method)
+            };
+            let (propagation, _) = run(expm::Strategy::Propagation);
+            let (modal, method) = run(expm::Strategy::Modal);
+            serde_json::json!({"n_states": n, "propagation_s": propagation, "modal_s": modal, "modal_taken": method == expm::Method::Modal})
+        })
+        .collect()
+}
+
 fn main() {
     let rate = gemm_rate();
     let mut sizes = Vec::new();
@@ -99,6 +123,7 @@ fn main() {
         "gemm_flops_per_s": rate,
         "sizes": sizes,
         "paper_fit_s": paper_fit_time(),
+        "crossover": crossover(),
         "parallel": {
             "large_iteration_one_thread_s": one, "large_iteration_two_threads_s": two,
             "medium_two_experiments_one_thread_s": exp_one, "medium_two_experiments_two_threads_s": exp_two,

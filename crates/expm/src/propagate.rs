@@ -572,3 +572,90 @@ fn dense(m: MatRef<'_, f64>) -> Vec<f64> {
     }
     v
 }
+
+/// How [`free_decay`] computes outputs and sensitivities.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Strategy {
+    /// Modal form when A is large enough for it to pay and well-conditioned, else propagation.
+    Auto,
+    /// Always the propagator (Φ, Ψ_i and the recursion).
+    Propagation,
+    /// The modal form if it is safe, else the propagator.
+    Modal,
+}
+
+/// Which method [`free_decay`] used.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// The sensitivity propagator.
+    Propagation,
+    /// Modal coordinates (Daleckii–Krein and a geometric sum).
+    Modal,
+}
+
+/// From this many states on, `Strategy::Auto` tries the modal form (the measured crossover,
+/// docs/performance.md).
+pub const MODAL_MIN_STATES: usize = 16;
+
+/// Outputs and output sensitivities of ẋ = Ax, y = Cx from x(0) at t_k = k·h (the size of
+/// `out` sets K): the MEM's Eq. 9 by the propagator, or — for larger, diagonalisable and
+/// well-conditioned A — in modal coordinates at a fraction of the cost (module `modal`).
+///
+/// # Errors
+/// Shape, finiteness and overflow errors of the arguments.
+#[allow(clippy::too_many_arguments)]
+pub fn free_decay(
+    a: MatRef<'_, f64>,
+    da: &[MatRef<'_, f64>],
+    c: MatRef<'_, f64>,
+    dc: Option<&[MatRef<'_, f64>]>,
+    x0: &[f64],
+    dx0: Option<MatRef<'_, f64>>,
+    h: f64,
+    out: &mut Response,
+    strategy: Strategy,
+) -> Result<Method, ExpmError> {
+    let n = check::square("a", a)?;
+    let try_modal = match strategy {
+        Strategy::Auto => n >= MODAL_MIN_STATES,
+        Strategy::Modal => true,
+        Strategy::Propagation => false,
+    };
+    if try_modal {
+        // Validate exactly as the propagator would, so both paths reject the same input.
+        if !(h.is_finite() && h > 0.0) {
+            return Err(ExpmError::InvalidInterval { h });
+        }
+        check::finite("a", a)?;
+        check::shape("c", c, c.nrows(), n)?;
+        check::finite("c", c)?;
+        for d in da {
+            check::shape("da", *d, n, n)?;
+            check::finite("da", *d)?;
+        }
+        let x0m = MatRef::from_column_major_slice(x0, x0.len(), 1);
+        check::shape("x0", x0m, n, 1)?;
+        check::finite("x0", x0m)?;
+        if let Some(dc) = dc {
+            for d in dc {
+                check::shape("dc", *d, c.nrows(), n)?;
+                check::finite("dc", *d)?;
+            }
+        }
+        if let Some(d) = dx0 {
+            check::shape("dx0", d, n, da.len())?;
+            check::finite("dx0", d)?;
+        }
+        check::shape("outputs", out.outputs.as_ref(), out.outputs.nrows(), c.nrows())?;
+        check::shape("sensitivities", out.sensitivities.as_ref(), out.outputs.nrows() * c.nrows(), da.len())?;
+        if crate::modal::modal_response(a, da, c, dc, x0, dx0, h, out)? {
+            return Ok(Method::Modal);
+        }
+    }
+    let mut prop = SensitivityPropagator::new(a, da, c, h)?;
+    if let Some(dc) = dc {
+        prop = prop.with_output_derivatives(dc)?;
+    }
+    prop.propagate_into(x0, dx0, out)?;
+    Ok(Method::Propagation)
+}

@@ -18,7 +18,9 @@ pub enum Safeguard {
 /// Why the iteration stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Termination {
-    /// The Gauss–Newton step satisfies |ΔP_i| ≤ tol·|P_i| for every i (paper step 4).
+    /// The Gauss–Newton step satisfies |ΔP_i| ≤ tol·|P_i| for every i (paper step 4), or the
+    /// decrease it predicts is below 1e-12 of the error (the gradient vanishes at working
+    /// precision, MINPACK's relative-reduction test).
     Converged,
     /// No step with any damping lowers the error: a (local) minimum at the resolution of the
     /// arithmetic, or a minimum on a bound.
@@ -63,6 +65,9 @@ pub fn gauss_newton_step(
         rank: solver.rank,
     })
 }
+
+/// Relative decrease of the error below which the Gauss–Newton step cannot be told from rounding.
+const PREDICTED_DECREASE_FLOOR: f64 = 1e-12;
 
 /// The MEM solver and its settings. Build with [`Fit::new`] and the `with_*` setters.
 #[derive(Clone, Debug)]
@@ -229,7 +234,8 @@ impl Fit {
         let mut termination = Termination::MaxIterations;
         for iteration in 0..self.max_iterations {
             let solver = StepSolver::new(current.sensitivity.as_ref(), &current.residual, self.rank_cutoff)?;
-            let (gauss_newton, _) = solver.step(0.0);
+            let (gauss_newton, predicted) = solver.step(0.0);
+            let at_precision = predicted <= PREDICTED_DECREASE_FLOOR * current.cost;
             if mu.is_nan() {
                 mu = 1e-3 * solver.max_scaled_diagonal();
             }
@@ -246,7 +252,7 @@ impl Fit {
                     }
                 }
                 Safeguard::LevenbergMarquardt => {
-                    if self.small(&gauss_newton, &p) {
+                    if self.small(&gauss_newton, &p) || at_precision {
                         termination = Termination::Converged;
                         break;
                     }

@@ -2,7 +2,7 @@
 
 use crate::error::BoxedError;
 use crate::{Measurement, MemError};
-use expm::{Response, SensitivityPropagator};
+use expm::Response;
 use faer::Mat;
 
 /// A linear state-space model at one parameter vector P: everything the MEM needs.
@@ -57,7 +57,8 @@ pub trait ResponseModel {
 }
 
 /// The MEM for a [`LinearModel`]: one exponential and its Fréchet derivatives per evaluation,
-/// then the sensitivity propagator (paper Eq. 9 at constant h).
+/// then the sensitivity propagator (paper Eq. 9 at constant h) — or, for larger
+/// well-conditioned models, the same quantities in modal coordinates (`expm::free_decay`).
 #[derive(Clone, Debug)]
 pub struct LinearResponse<M>(pub M);
 
@@ -71,12 +72,18 @@ impl<M: LinearModel> ResponseModel for LinearResponse<M> {
     fn respond(&self, p: &[f64], h: f64, out: &mut Response) -> Result<(), BoxedError> {
         let lin = self.0.linearize(p)?;
         let da: Vec<_> = lin.da.iter().map(|d| d.as_ref()).collect();
-        let mut prop = SensitivityPropagator::new(lin.a.as_ref(), &da, lin.c.as_ref(), h)?;
-        if let Some(dc) = &lin.dc {
-            let dc: Vec<_> = dc.iter().map(|d| d.as_ref()).collect();
-            prop = prop.with_output_derivatives(&dc)?;
-        }
-        prop.propagate_into(&lin.x0, lin.dx0.as_ref().map(|d| d.as_ref()), out)?;
+        let dc: Option<Vec<_>> = lin.dc.as_ref().map(|dc| dc.iter().map(|d| d.as_ref()).collect());
+        expm::free_decay(
+            lin.a.as_ref(),
+            &da,
+            lin.c.as_ref(),
+            dc.as_deref(),
+            &lin.x0,
+            lin.dx0.as_ref().map(|d| d.as_ref()),
+            h,
+            out,
+            expm::Strategy::Auto,
+        )?;
         Ok(())
     }
 }
