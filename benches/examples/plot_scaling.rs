@@ -51,7 +51,11 @@ fn main() {
         iteration.push((n as f64, t));
     }
     series.push(("MEM iteration, j = 5, p = 4, K = 2000".into(), iteration));
-    let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, include_bytes!("../../crates/memid/assets/DejaVuSans.ttf"));
+    let _ = plotters::style::register_font(
+        "sans-serif",
+        FontStyle::Normal,
+        include_bytes!("../../crates/memid/assets/DejaVuSans.ttf"),
+    );
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/performance-scaling.svg");
     let root = SVGBackend::new(&path, (900, 560)).into_drawing_area();
     root.fill(&WHITE).unwrap();
@@ -62,7 +66,13 @@ fn main() {
         .y_label_area_size(70)
         .build_cartesian_2d((6.0f64..600.0).log_scale(), (1e-6f64..10.0).log_scale())
         .unwrap();
-    chart.configure_mesh().x_desc("N (states)").y_desc("seconds").label_style(("sans-serif", 14)).draw().unwrap();
+    chart
+        .configure_mesh()
+        .x_desc("N (states)")
+        .y_desc("seconds")
+        .label_style(("sans-serif", 14))
+        .draw()
+        .unwrap();
     let colors = [RGBColor(30, 100, 200), RGBColor(200, 60, 40), RGBColor(40, 150, 60), RGBColor(30, 30, 30)];
     for ((label, points), color) in series.iter().zip(colors) {
         chart
@@ -72,7 +82,14 @@ fn main() {
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
         chart.draw_series(points.iter().map(|p| Circle::new(*p, 3, color.filled()))).unwrap();
     }
-    chart.configure_series_labels().background_style(WHITE.mix(0.9)).border_style(BLACK).label_font(("sans-serif", 14)).position(SeriesLabelPosition::UpperLeft).draw().unwrap();
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .position(SeriesLabelPosition::UpperLeft)
+        .draw()
+        .unwrap();
     root.present().unwrap();
     println!("wrote {}", path.display());
 }

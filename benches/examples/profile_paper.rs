@@ -37,7 +37,6 @@ fn main() {
     });
 }
 
-#[allow(dead_code)]
 fn qr_probe() {
     let s = faer::Mat::<f64>::from_fn(1200, 2, |i, j| ((i * 7 + j * 3) as f64).sin());
     time("qr 1200x2", 20000, || {

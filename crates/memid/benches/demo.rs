@@ -10,7 +10,10 @@ fn bench_demo(c: &mut Criterion) {
     group.sample_size(10);
     group.bench_function("whole", |b| {
         b.iter(|| {
-            let status = Command::new(env!("CARGO_BIN_EXE_memid")).args(["demo", "--report", &dir_text, "--json"]).output().expect("memid runs");
+            let status = Command::new(env!("CARGO_BIN_EXE_memid"))
+                .args(["demo", "--report", &dir_text, "--json"])
+                .output()
+                .expect("memid runs");
             assert!(status.status.success());
         })
     });

@@ -202,6 +202,10 @@ impl SlewingModel {
     }
 
     /// The current value of a parameter.
+    ///
+    /// # Panics
+    /// If `id` belongs to an effect this model does not have (ids from [`Self::parameter`] and
+    /// [`Self::parameter_ids`] always exist).
     pub fn get(&self, id: ParamId) -> f64 {
         self.constants.get(id)
     }
@@ -209,8 +213,15 @@ impl SlewingModel {
     /// Sets a parameter.
     ///
     /// # Errors
-    /// [`PlantError::InvalidValue`] if the value is physically impossible.
+    /// [`PlantError::InvalidValue`] if the value is physically impossible,
+    /// [`PlantError::UnknownParameter`] if it belongs to an effect the model does not have.
     pub fn set(&mut self, id: ParamId, value: f64) -> Result<(), PlantError> {
+        if self.constants.try_get(id).is_none() {
+            return Err(PlantError::UnknownParameter {
+                name: id.name(),
+                valid: self.parameter_ids().iter().map(|p| p.name()).collect::<Vec<_>>().join(", "),
+            });
+        }
         id.check(value).map_err(|requirement| PlantError::InvalidValue {
             origin: self.origin.clone(),
             line: 0,

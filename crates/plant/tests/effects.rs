@@ -131,3 +131,10 @@ fn effects_are_validated() {
     );
     assert!(SlewingModel::from_ron(&text, "bad.ron").unwrap_err().to_string().contains("twice"));
 }
+
+#[test]
+fn setting_a_parameter_of_an_absent_effect_is_an_error() {
+    let mut m = plant::SlewingModel::paper();
+    let err = m.set(plant::ParamId::CurrentLimit, 1.0).unwrap_err().to_string();
+    assert!(err.contains("current_limit") && err.contains("cv"), "{err}");
+}
