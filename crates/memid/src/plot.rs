@@ -77,12 +77,19 @@ fn draw<DB: DrawingBackend>(
         let (mut x_min, mut x_max, mut y_min, mut y_max) =
             (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
         for s in &panel.series {
-            for (x, y) in &s.points {
+            for (x, y) in s.points.iter().filter(|(x, y)| x.is_finite() && y.is_finite()) {
                 x_min = x_min.min(*x);
                 x_max = x_max.max(*x);
                 y_min = y_min.min(*y);
                 y_max = y_max.max(*y);
             }
+        }
+        // Degenerate or empty ranges (a constant signal, or no finite point) get a unit span.
+        if !x_min.is_finite() {
+            (x_min, x_max) = (0.0, 1.0);
+        }
+        if !y_min.is_finite() {
+            (y_min, y_max) = (0.0, 1.0);
         }
         if x_min.partial_cmp(&x_max) != Some(std::cmp::Ordering::Less) {
             x_max = x_min + 1.0;
@@ -104,7 +111,10 @@ fn draw<DB: DrawingBackend>(
         for s in &panel.series {
             let color = s.color;
             chart
-                .draw_series(LineSeries::new(s.points.iter().copied(), color.stroke_width(2)))?
+                .draw_series(LineSeries::new(
+                    s.points.iter().copied().filter(|(x, y)| x.is_finite() && y.is_finite()),
+                    color.stroke_width(2),
+                ))?
                 .label(s.label.as_str())
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
         }
