@@ -1,6 +1,6 @@
 //! `memid diagnose`: find where model and data disagree, name the missing effect, add it.
 
-use crate::io::{Inputs, load_model, names, read_measurement, write_atomic};
+use crate::io::{Inputs, names, read_measurement, write_atomic};
 use crate::output::fit_json;
 use crate::progress::spinner;
 use crate::report::Report;
@@ -13,18 +13,14 @@ use std::path::PathBuf;
 /// scored by BIC, and the augmented model.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Model file (RON).
-    #[arg(long)]
-    model: PathBuf,
+    #[command(flatten)]
+    model: super::model_args::ModelArgs,
     /// Measured data (CSV with header t,<outputs>).
     #[arg(long)]
     data: PathBuf,
     /// Parameters refitted in the baseline and in every candidate, comma-separated.
     #[arg(long)]
     free: String,
-    /// Override a parameter first, NAME=VALUE (repeatable).
-    #[arg(long = "set", value_name = "NAME=VALUE")]
-    set: Vec<String>,
     /// Keep every R-th sample after an anti-aliasing filter.
     #[arg(long, value_name = "R")]
     decimate: Option<usize>,
@@ -128,7 +124,7 @@ pub fn diagnosis_table(d: &Diagnosis) -> String {
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
     let mut inputs = Inputs::default();
-    let model = load_model(&args.model, &args.set, &mut inputs)?;
+    let model = args.model.load(&mut inputs)?;
     inputs.add(&args.data);
     let mut data = read_measurement(&args.data)?;
     for out in [&args.output, &args.json].into_iter().flatten() {

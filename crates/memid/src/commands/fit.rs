@@ -1,6 +1,6 @@
 //! `memid fit`: the MEM fit of a model to measured data.
 
-use crate::io::{Inputs, load_model, names, read_measurement, write_atomic};
+use crate::io::{Inputs, names, read_measurement, write_atomic};
 use crate::output::{fit_json, fit_table};
 use crate::progress::spinner;
 use crate::report::Report;
@@ -13,18 +13,14 @@ use std::path::{Path, PathBuf};
 /// Fit the free parameters of a model to a measured free decay.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Model file (RON).
-    #[arg(long)]
-    model: PathBuf,
+    #[command(flatten)]
+    model: super::model_args::ModelArgs,
     /// Measured data (CSV with header t,<outputs>).
     #[arg(long)]
     data: PathBuf,
     /// Parameters to tune, comma-separated (default: the model file's `free` list).
     #[arg(long)]
     free: Option<String>,
-    /// Override a parameter before fitting, NAME=VALUE (repeatable).
-    #[arg(long = "set", value_name = "NAME=VALUE")]
-    set: Vec<String>,
     /// Use only these outputs, comma-separated (e.g. `theta`, as the paper did).
     #[arg(long)]
     outputs: Option<String>,
@@ -79,7 +75,7 @@ pub fn prepare(
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
     let mut inputs = Inputs::default();
-    let model = load_model(&args.model, &args.set, &mut inputs)?;
+    let model = args.model.load(&mut inputs)?;
     inputs.add(&args.data);
     let data = read_measurement(&args.data)?;
     for out in [&args.output, &args.json].into_iter().flatten() {

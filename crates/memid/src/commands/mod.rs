@@ -6,4 +6,5 @@ pub mod era;
 pub mod fit;
 pub mod modal;
 pub mod model;
+pub mod model_args;
 pub mod simulate;

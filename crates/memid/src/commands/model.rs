@@ -1,18 +1,14 @@
 //! `memid model`: the assembled matrices, to carry the model to other tools.
 
-use crate::io::{Inputs, load_model, write_atomic};
+use crate::io::{Inputs, write_atomic};
 use anyhow::Result;
 use std::path::PathBuf;
 
 /// Export the assembled matrices M, D, K, B, A, C and x(0) as JSON.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Model file (RON).
-    #[arg(long)]
-    model: PathBuf,
-    /// Override a parameter, NAME=VALUE (repeatable).
-    #[arg(long = "set", value_name = "NAME=VALUE")]
-    set: Vec<String>,
+    #[command(flatten)]
+    model: super::model_args::ModelArgs,
     /// Print JSON (the only format; accepted for symmetry with the other commands).
     #[arg(long)]
     json: bool,
@@ -24,7 +20,7 @@ pub struct Args {
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
     let mut inputs = Inputs::default();
-    let model = load_model(&args.model, &args.set, &mut inputs)?;
+    let model = args.model.load(&mut inputs)?;
     let text = serde_json::to_string_pretty(&model.matrices_json()?)?;
     match &args.output {
         Some(path) => {

@@ -1,6 +1,6 @@
 //! `memid simulate`: a model's free decay as CSV.
 
-use crate::io::{Inputs, csv_text, load_model, write_atomic};
+use crate::io::{Inputs, csv_text, write_atomic};
 use anyhow::{Result, anyhow, bail};
 use rand::{Rng, SeedableRng};
 use std::path::PathBuf;
@@ -8,12 +8,8 @@ use std::path::PathBuf;
 /// Simulate a model's free decay into a CSV file (header `t,<outputs>`).
 #[derive(clap::Args)]
 pub struct Args {
-    /// Model file (RON).
-    #[arg(long)]
-    model: PathBuf,
-    /// Override a parameter, NAME=VALUE (repeatable).
-    #[arg(long = "set", value_name = "NAME=VALUE")]
-    set: Vec<String>,
+    #[command(flatten)]
+    model: super::model_args::ModelArgs,
     /// Duration [s].
     #[arg(long)]
     duration: f64,
@@ -66,7 +62,7 @@ fn noise_levels(spec: Option<&str>, outputs: &[&str]) -> Result<Vec<f64>> {
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
     let mut inputs = Inputs::default();
-    let model = load_model(&args.model, &args.set, &mut inputs)?;
+    let model = args.model.load(&mut inputs)?;
     inputs.guard(&args.output)?;
     if !(args.duration.is_finite() && args.duration > 0.0) {
         bail!("--duration must be a positive number of seconds, got {}", args.duration);
