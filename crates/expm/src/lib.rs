@@ -30,7 +30,7 @@
 //!   [`MODAL_MIN_STATES`] states on): with A = VΛV⁻¹, the Fréchet derivative in modal
 //!   coordinates is Daleckii–Krein's (hV⁻¹∂A/∂P_iV) ∘ [(e^{λ_jh} − e^{λ_lh})/(λ_jh − λ_lh)], and
 //!   the sensitivity recursion sums in closed form as a geometric series, so all outputs and
-//!   sensitivities are Re(P₁[μᵏ] + P₂[kμᵏ⁻¹]) — two complex GEMMs instead of k propagation
+//!   sensitivities are Re(P₁·\[μᵏ\] + P₂·\[kμᵏ⁻¹\]) — two complex GEMMs instead of k propagation
 //!   steps. It is used only when κ₁(V)·(1 + max|μ|/min gap) ≤ 1e8; otherwise (defective or
 //!   nearly repeated spectra) the propagator answers.
 //!
