@@ -321,18 +321,7 @@ impl SensitivityPropagator {
             x = x_next;
             std::mem::swap(&mut sens, &mut sens_next);
         }
-        for o in 0..p {
-            for k in 0..k_samples {
-                out.outputs[(k, o)] = outputs[k * LANES + o];
-            }
-        }
-        for i in 0..j {
-            for k in 0..k_samples {
-                for o in 0..p {
-                    out.sensitivities[(k * p + o, i)] = sensitivities[(k * j + i) * LANES + o];
-                }
-            }
-        }
+        scatter(out, &outputs, &sensitivities, LANES);
     }
 
     #[inline(always)]
@@ -395,19 +384,7 @@ impl SensitivityPropagator {
             }
             std::mem::swap(&mut block, &mut next);
         }
-        // Scatter into the column-major result matrices (sample-major buffers above).
-        for o in 0..p {
-            for k in 0..k_samples {
-                out.outputs[(k, o)] = outputs[k * p + o];
-            }
-        }
-        for i in 0..j {
-            for k in 0..k_samples {
-                for o in 0..p {
-                    out.sensitivities[(k * p + o, i)] = sensitivities[k * p * j + i * p + o];
-                }
-            }
-        }
+        scatter(out, &outputs, &sensitivities, p);
     }
 
     /// Larger systems, in chunks of T samples: the states of the chunk by a recursion of
@@ -559,6 +536,24 @@ impl GroupState {
             1.0,
             Par::Seq,
         );
+    }
+}
+
+/// Copies sample-major buffers into the column-major result: `outputs[k·stride + o]` is y_o(t_k)
+/// and `sensitivities[(k·j + i)·stride + o]` is ∂y_o(t_k)/∂P_i (`stride` ≥ p pads the rows).
+fn scatter(out: &mut Response, outputs: &[f64], sensitivities: &[f64], stride: usize) {
+    let (k_samples, p, j) = (out.outputs.nrows(), out.outputs.ncols(), out.sensitivities.ncols());
+    for o in 0..p {
+        for k in 0..k_samples {
+            out.outputs[(k, o)] = outputs[k * stride + o];
+        }
+    }
+    for i in 0..j {
+        for k in 0..k_samples {
+            for o in 0..p {
+                out.sensitivities[(k * p + o, i)] = sensitivities[(k * j + i) * stride + o];
+            }
+        }
     }
 }
 

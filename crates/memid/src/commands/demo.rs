@@ -62,61 +62,37 @@ fn pair(result: &era::EraResult, target_hz: f64) -> Option<&era::EraMode> {
         .max_by(|a, b| a.contribution.total_cmp(&b.contribution))
 }
 
+/// One parameter row of Table 1: (paper initial, paper final) beside ours, and both ΔP.
+fn parameter_row(name: &str, paper: (f64, f64), ours: (f64, f64)) -> String {
+    format!(
+        "{:<16} {:>8.4} | {:<8.4} {:>8.4} | {:<8.4} {:>8.4} | {:<+8.4}\n",
+        name,
+        paper.0,
+        ours.0,
+        paper.1,
+        ours.1,
+        paper.1 - paper.0,
+        ours.1 - ours.0
+    )
+}
+
+/// The error row of Table 1: ‖Y_error‖ initial and final, paper beside ours.
+fn error_row(paper: (f64, f64), ours: (f64, f64)) -> String {
+    format!("{:<16} {:>8.4} | {:<8.4} {:>8.4} | {:<8.4}\n", "  ‖Y_error‖", paper.0, ours.0, paper.1, ours.1)
+}
+
 fn table1(run1: &FitOutcome, run2: &FitOutcome) -> String {
-    let r1 = &run1.report;
-    let r2 = &run2.report;
-    let (e10, e11) = r1.error_change();
-    let (e20, e21) = r2.error_change();
+    let (r1, r2) = (&run1.report, &run2.report);
+    let ours = |r: &mem::FitReport, i: usize| (r.initial[i], r.parameters[i]);
     let mut t = String::from("Table 1 — parameter values (paper | memid)\n");
     t += &format!("{:<16} {:>19} {:>19} {:>19}\n", "", "initial", "final", "ΔP");
     t += "Run 1:\n";
-    t += &format!(
-        "{:<16} {:>8.4} | {:<8.4} {:>8.4} | {:<8.4} {:>8.4} | {:<+8.4}\n",
-        "  C_v",
-        paper::RUN1.0,
-        r1.initial[0],
-        paper::RUN1.1,
-        r1.parameters[0],
-        paper::RUN1.1 - paper::RUN1.0,
-        r1.parameters[0] - r1.initial[0]
-    );
-    t += &format!(
-        "{:<16} {:>8.4} | {:<8.4} {:>8.4} | {:<8.4}\n",
-        "  ‖Y_error‖",
-        paper::RUN1.2,
-        e10,
-        paper::RUN1.3,
-        e11
-    );
+    t += &parameter_row("  C_v", (paper::RUN1.0, paper::RUN1.1), ours(r1, 0));
+    t += &error_row((paper::RUN1.2, paper::RUN1.3), r1.error_change());
     t += "Run 2:\n";
-    t += &format!(
-        "{:<16} {:>8.4} | {:<8.4} {:>8.4} | {:<8.4} {:>8.4} | {:<+8.4}\n",
-        "  C_v",
-        paper::RUN2.0,
-        r2.initial[0],
-        paper::RUN2.1,
-        r2.parameters[0],
-        paper::RUN2.1 - paper::RUN2.0,
-        r2.parameters[0] - r2.initial[0]
-    );
-    t += &format!(
-        "{:<16} {:>8.4} | {:<8.4} {:>8.4} | {:<8.4} {:>8.4} | {:<+8.4}\n",
-        "  K_p",
-        paper::RUN2.2,
-        r2.initial[1],
-        paper::RUN2.3,
-        r2.parameters[1],
-        paper::RUN2.3 - paper::RUN2.2,
-        r2.parameters[1] - r2.initial[1]
-    );
-    t += &format!(
-        "{:<16} {:>8.4} | {:<8.4} {:>8.4} | {:<8.4}\n",
-        "  ‖Y_error‖",
-        paper::RUN2.4,
-        e20,
-        paper::RUN2.5,
-        e21
-    );
+    t += &parameter_row("  C_v", (paper::RUN2.0, paper::RUN2.1), ours(r2, 0));
+    t += &parameter_row("  K_p", (paper::RUN2.2, paper::RUN2.3), ours(r2, 1));
+    t += &error_row((paper::RUN2.4, paper::RUN2.5), r2.error_change());
     t += "(‖Y_error‖ is Eq. 22 on the potentiometer signal in rad at 12.8 Hz; the paper's recordings and\n units differ, so compare reductions, not magnitudes.)\n";
     t
 }
