@@ -1,4 +1,5 @@
 //! Times the pieces of one paper-size MEM iteration (development aid).
+use faer::linalg::solvers::Solve;
 use memid_benches::{SIZES, family};
 use std::time::Instant;
 
@@ -18,6 +19,42 @@ fn main() {
     let das: Vec<faer::Mat<f64>> = (0..size.params).map(|i| fam.da(i)).collect();
     let refs: Vec<_> = das.iter().map(|d| d.as_ref()).collect();
     let h = 1.0 / 12.8;
+    if std::env::args().any(|a| a == "--step-only") {
+        // For `perf record`: nothing but the whole iteration.
+        let model = mem::LinearResponse(fam.clone());
+        let data = test_problems::simulate_measurement(&model, &fam.p_nominal, h, size.samples, 0.01, 1);
+        let experiments = [mem::Experiment::normalized(&model, &data)];
+        time("gauss_newton_step", 100000, || {
+            std::hint::black_box(mem::gauss_newton_step(&experiments, &fam.p_nominal, 1e-10).unwrap());
+        });
+        return;
+    }
+    if std::env::args().any(|a| a == "--build-only") {
+        time("propagator build", 200000, || {
+            std::hint::black_box(
+                expm::SensitivityPropagator::new(a.as_ref(), &refs, fam.c.as_ref(), h).unwrap(),
+            );
+        });
+        return;
+    }
+    let ah = a.clone() * faer::Scale(h);
+    let work = expm::ExpmFrechet::new(ah.as_ref()).unwrap();
+    println!("Padé degree {}, squarings {}", work.degree(), work.squarings());
+    let mut prod = faer::Mat::<f64>::zeros(8, 8);
+    time("faer matmul 8x8", 200000, || {
+        faer::linalg::matmul::matmul(
+            prod.as_mut(),
+            faer::Accum::Replace,
+            ah.as_ref(),
+            ah.as_ref(),
+            1.0,
+            faer::Par::Seq,
+        );
+        std::hint::black_box(&prod);
+    });
+    time("faer lu 8x8 + solve", 200000, || {
+        std::hint::black_box(ah.partial_piv_lu().solve(&ah));
+    });
     time("propagator build", 20000, || {
         std::hint::black_box(expm::SensitivityPropagator::new(a.as_ref(), &refs, fam.c.as_ref(), h).unwrap());
     });

@@ -36,7 +36,7 @@ pub fn expm(a: MatRef<'_, f64>) -> Result<Mat<f64>, ExpmError> {
     }
     let scaled = pade::choose(a, Target::Exponential);
     let parts = pade::evaluate(&scaled);
-    let mut r = pade_quotient(&parts).0;
+    let mut r = pade_quotient(&parts.u, &parts.v).0;
     let triangular = is_upper_triangular(a);
     if triangular {
         exact_diagonals(&mut r, a, scaled.squarings);
@@ -79,11 +79,15 @@ fn sinch(x: f64) -> f64 {
 }
 
 /// r_m = (V − U)⁻¹ (V + U), and the factorisation of V − U for later solves.
-pub(crate) fn pade_quotient(parts: &pade::PadeParts) -> (Mat<f64>, faer::linalg::solvers::PartialPivLu<f64>) {
-    let q = &parts.v - &parts.u;
-    let p = &parts.v + &parts.u;
+pub(crate) fn pade_quotient(
+    u: &Mat<f64>,
+    v: &Mat<f64>,
+) -> (Mat<f64>, faer::linalg::solvers::PartialPivLu<f64>) {
+    let q = pade::combine(&[(1.0, v), (-1.0, u)]);
+    let mut p = pade::combine(&[(1.0, v), (1.0, u)]);
     let lu = q.partial_piv_lu();
-    (lu.solve(&p), lu)
+    lu.solve_in_place(&mut p);
+    (p, lu)
 }
 
 /// Returns `m` if all its entries are finite, else [`ExpmError::Overflow`].

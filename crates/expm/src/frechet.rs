@@ -9,7 +9,7 @@
 //! computed once in [`ExpmFrechet::new`] and shared by every direction.
 
 use crate::exponential::{overflow_check, pade_quotient};
-use crate::kernel::mul;
+use crate::kernel::{mul, mul_add, two_products};
 use crate::pade::{self, PadeParts, Scaled, Target, combine};
 use crate::{ExpmError, check};
 use faer::linalg::solvers::{PartialPivLu, Solve};
@@ -30,7 +30,10 @@ pub struct ExpmFrechet {
     n: usize,
     norm: f64,
     scaled: Scaled,
-    parts: PadeParts,
+    /// The odd-part polynomial W of r_m (U = X W).
+    w: Mat<f64>,
+    /// m = 13 only: Z₁ and Z₂ of [`PadeParts`].
+    z: Option<(Mat<f64>, Mat<f64>)>,
     lu: PartialPivLu<f64>,
     /// R_0 = r_m(X), R_1 = R_0², …, R_s = e^A.
     squares: Vec<Mat<f64>>,
@@ -45,8 +48,8 @@ impl ExpmFrechet {
         let n = check::square("a", a)?;
         check::finite("a", a)?;
         let scaled = pade::choose(a, Target::FrechetDerivative);
-        let parts = pade::evaluate(&scaled);
-        let (r0, lu) = pade_quotient(&parts);
+        let PadeParts { u, v, w, z } = pade::evaluate(&scaled);
+        let (r0, lu) = pade_quotient(&u, &v);
         let mut squares = Vec::with_capacity(scaled.squarings as usize + 1);
         squares.push(r0);
         for k in 0..scaled.squarings as usize {
@@ -55,7 +58,7 @@ impl ExpmFrechet {
         }
         let last = squares.pop().expect("at least R_0");
         squares.push(overflow_check(last, a, scaled.squarings)?);
-        Ok(Self { n, norm: crate::norm1(a), scaled, parts, lu, squares })
+        Ok(Self { n, norm: crate::norm1(a), scaled, w, z, lu, squares })
     }
 
     /// The order of A.
@@ -90,46 +93,47 @@ impl ExpmFrechet {
         let b = pade::coefficients(s.degree);
         let p = &s.powers;
         let x = &s.x;
-        let f = e.to_owned() * faer::Scale(s.scale);
-        // M_k = d(X^{2k}) in direction F.
-        let mut m: Vec<Mat<f64>> = Vec::with_capacity(p.len());
-        m.push(Mat::zeros(self.n, self.n));
-        m.push(mul(x, &f) + mul(&f, x));
+        let f = Mat::from_fn(self.n, self.n, |r, c| e[(r, c)] * s.scale);
+        // m[k − 1] = M_k = d(X^{2k}) in direction F.
+        let mut m: Vec<Mat<f64>> = Vec::with_capacity(p.len() - 1);
+        m.push(two_products(x, &f, &f, x));
         if p.len() > 2 {
-            m.push(mul(&p[1], &m[1]) + mul(&m[1], &p[1]));
+            m.push(two_products(&p[1], &m[0], &m[0], &p[1]));
         }
         if p.len() > 3 {
-            m.push(mul(&p[2], &m[1]) + mul(&m[2], &p[1]));
+            m.push(two_products(&p[2], &m[0], &m[1], &p[1]));
         }
         if p.len() > 4 {
-            m.push(mul(&p[2], &m[2]) + mul(&m[2], &p[2]));
+            m.push(two_products(&p[2], &m[1], &m[1], &p[2]));
         }
-        let (lu_u, lu_v) = match &self.parts.z {
+        let (lu_u, lu_v) = match &self.z {
             Some((z1, z2)) => {
-                let lz1 = combine(&[(b[13], &m[3]), (b[11], &m[2]), (b[9], &m[1])]);
-                let lz2 = combine(&[(b[12], &m[3]), (b[10], &m[2]), (b[8], &m[1])]);
-                let lw = mul(&p[3], &lz1)
-                    + mul(&m[3], z1)
-                    + combine(&[(b[7], &m[3]), (b[5], &m[2]), (b[3], &m[1])]);
-                let lu_u = mul(x, &lw) + mul(&f, &self.parts.w);
-                let lu_v = mul(&p[3], &lz2)
-                    + mul(&m[3], z2)
-                    + combine(&[(b[6], &m[3]), (b[4], &m[2]), (b[2], &m[1])]);
+                let lz1 = combine(&[(b[13], &m[2]), (b[11], &m[1]), (b[9], &m[0])]);
+                let lz2 = combine(&[(b[12], &m[2]), (b[10], &m[1]), (b[8], &m[0])]);
+                let mut lw = combine(&[(b[7], &m[2]), (b[5], &m[1]), (b[3], &m[0])]);
+                mul_add(&mut lw, &p[3], &lz1);
+                mul_add(&mut lw, &m[2], z1);
+                let lu_u = two_products(x, &lw, &f, &self.w);
+                let mut lu_v = combine(&[(b[6], &m[2]), (b[4], &m[1]), (b[2], &m[0])]);
+                mul_add(&mut lu_v, &p[3], &lz2);
+                mul_add(&mut lu_v, &m[2], z2);
                 (lu_u, lu_v)
             }
             None => {
                 let odd: Vec<(f64, &Mat<f64>)> =
-                    m.iter().enumerate().skip(1).map(|(k, mk)| (b[2 * k + 1], mk)).collect();
+                    m.iter().enumerate().map(|(k, mk)| (b[2 * k + 3], mk)).collect();
                 let even: Vec<(f64, &Mat<f64>)> =
-                    m.iter().enumerate().skip(1).map(|(k, mk)| (b[2 * k], mk)).collect();
-                let lu_u = mul(x, &combine(&odd)) + mul(&f, &self.parts.w);
-                (lu_u, combine(&even))
+                    m.iter().enumerate().map(|(k, mk)| (b[2 * k + 2], mk)).collect();
+                (two_products(x, &combine(&odd), &f, &self.w), combine(&even))
             }
         };
-        let rhs = &lu_u + &lu_v + mul(&(&lu_u - &lu_v), &self.squares[0]);
-        let mut l = self.lu.solve(&rhs);
+        // (V − U) L_r = (L_U + L_V) + (L_U − L_V) r_m(X)
+        let difference = combine(&[(1.0, &lu_u), (-1.0, &lu_v)]);
+        let mut l = combine(&[(1.0, &lu_u), (1.0, &lu_v)]);
+        mul_add(&mut l, &difference, &self.squares[0]);
+        self.lu.solve_in_place(&mut l);
         for r in &self.squares[..self.squares.len() - 1] {
-            l = mul(r, &l) + mul(&l, r);
+            l = two_products(r, &l, &l, r);
         }
         if check::finite("result", l.as_ref()).is_err() {
             return Err(ExpmError::Overflow { norm: self.norm, squarings: s.squarings });

@@ -1,10 +1,17 @@
-//! Matrix products: faer's GEMM for sizes where it pays, a plain loop for tiny matrices where
-//! its dispatch costs more than the arithmetic (8×8 is 512 multiply-adds).
+//! Matrix products through faer's GEMM (its nano-gemm kernels beat a plain loop even at 8×8),
+//! single-threaded below 128³ multiply-adds. The accumulating forms let the Padé and Fréchet
+//! recurrences build sums of products in one buffer instead of allocating a temporary per term.
 
-use faer::{Accum, Mat, MatRef, Par};
+use faer::{Accum, Mat, MatMut, MatRef, Par};
 
-/// Below this many multiply-adds the plain loop is used.
-const SMALL: usize = 48 * 48 * 48;
+fn parallelism(m: usize, k: usize, n: usize) -> Par {
+    if m * k * n >= 128 * 128 * 128 { faer::get_global_parallelism() } else { Par::Seq }
+}
+
+fn product_into(out: MatMut<'_, f64>, accum: Accum, a: MatRef<'_, f64>, b: MatRef<'_, f64>) {
+    let par = parallelism(a.nrows(), a.ncols(), b.ncols());
+    faer::linalg::matmul::matmul(out, accum, a, b, 1.0, par);
+}
 
 /// A·B.
 pub(crate) fn mul(a: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
@@ -13,33 +20,19 @@ pub(crate) fn mul(a: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
 
 /// A·B for views.
 pub(crate) fn mul_ref(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
-    let (m, k, n) = (a.nrows(), a.ncols(), b.ncols());
-    let mut out = Mat::<f64>::zeros(m, n);
-    if m * k * n <= SMALL {
-        // Columns of A as contiguous slices (a view may be strided: copy it once then).
-        let a_cols: Vec<f64>;
-        let a_slices: Vec<&[f64]> = if (0..k).all(|l| a.col(l).try_as_col_major().is_some()) {
-            (0..k).map(|l| a.col(l).try_as_col_major().expect("checked").as_slice()).collect()
-        } else {
-            a_cols = (0..k).flat_map(|l| (0..m).map(move |i| a[(i, l)])).collect();
-            a_cols.chunks_exact(m.max(1)).collect()
-        };
-        for j in 0..n {
-            let col =
-                out.col_mut(j).try_as_col_major_mut().expect("a fresh Mat is column-major").as_slice_mut();
-            for (l, acol) in a_slices.iter().enumerate() {
-                let blj = b[(l, j)];
-                if blj == 0.0 {
-                    continue;
-                }
-                for (c, av) in col.iter_mut().zip(acol.iter()) {
-                    *c += av * blj;
-                }
-            }
-        }
-    } else {
-        let par = if m * k * n >= 128 * 128 * 128 { faer::get_global_parallelism() } else { Par::Seq };
-        faer::linalg::matmul::matmul(out.as_mut(), Accum::Replace, a, b, 1.0, par);
-    }
+    let mut out = Mat::<f64>::zeros(a.nrows(), b.ncols());
+    product_into(out.as_mut(), Accum::Replace, a, b);
+    out
+}
+
+/// out ← out + A·B.
+pub(crate) fn mul_add(out: &mut Mat<f64>, a: &Mat<f64>, b: &Mat<f64>) {
+    product_into(out.as_mut(), Accum::Add, a.as_ref(), b.as_ref());
+}
+
+/// A₁B₁ + A₂B₂, in one buffer.
+pub(crate) fn two_products(a1: &Mat<f64>, b1: &Mat<f64>, a2: &Mat<f64>, b2: &Mat<f64>) -> Mat<f64> {
+    let mut out = mul(a1, b1);
+    mul_add(&mut out, a2, b2);
     out
 }

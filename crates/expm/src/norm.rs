@@ -103,11 +103,13 @@ pub(crate) fn estimate_product_norm1(factors: &[MatRef<'_, f64>]) -> f64 {
 /// vector–matrix products with |A| give it without an estimator.
 pub(crate) fn abs_power_norm1(a: MatRef<'_, f64>, p: usize) -> f64 {
     let n = a.nrows();
+    // |A| column by column, contiguous, so each product 1ᵀ|A| is n dot products of slices.
+    let abs: Vec<f64> = (0..n).flat_map(|j| (0..n).map(move |i| a[(i, j)].abs())).collect();
     let mut v = vec![1.0; n];
     let mut next = vec![0.0; n];
     for _ in 0..p {
-        for j in 0..n {
-            next[j] = (0..n).map(|i| v[i] * a[(i, j)].abs()).sum();
+        for (t, column) in next.iter_mut().zip(abs.chunks_exact(n.max(1))) {
+            *t = v.iter().zip(column).map(|(x, y)| x * y).sum();
         }
         std::mem::swap(&mut v, &mut next);
     }

@@ -13,7 +13,7 @@
 //! Al-Mohy & Higham (2009b, Table 6.1), which bound the backward error of L(X, E) as well;
 //! the same Theorem 4.2 lets them be compared with α_p(X).
 
-use crate::kernel::mul;
+use crate::kernel::{mul, mul_add, mul_ref};
 use crate::norm::{abs_power_norm1, estimate_product_norm1, norm1};
 use faer::{Mat, MatRef};
 
@@ -167,14 +167,13 @@ pub(crate) fn choose(a: MatRef<'_, f64>, target: Target) -> Scaled {
         Scaled { degree, squarings, scale, x, powers }
     };
     let identity = Mat::<f64>::identity(n, n);
-    let a_owned = a.to_owned();
-    let a2 = mul(&a_owned, &a_owned);
+    let a2 = mul_ref(a, a);
     // Norms of powers that are not formed anyway: exact (by forming them) for small n, where a
     // product is cheaper than the estimator's bookkeeping; estimated for large n.
     let power_norm = |factors: &[&Mat<f64>]| {
         if n <= EXACT_POWER_NORMS {
-            let mut product = factors[0].clone();
-            for f in &factors[1..] {
+            let mut product = mul(factors[0], factors[1]);
+            for f in &factors[2..] {
                 product = mul(&product, f);
             }
             norm1(product.as_ref())
@@ -265,8 +264,10 @@ pub(crate) fn evaluate(s: &Scaled) -> PadeParts {
     if s.degree == 13 {
         let z1 = combine(&[(b[13], &p[3]), (b[11], &p[2]), (b[9], &p[1])]);
         let z2 = combine(&[(b[12], &p[3]), (b[10], &p[2]), (b[8], &p[1])]);
-        let w = mul(&p[3], &z1) + combine(&[(b[7], &p[3]), (b[5], &p[2]), (b[3], &p[1]), (b[1], &p[0])]);
-        let v = mul(&p[3], &z2) + combine(&[(b[6], &p[3]), (b[4], &p[2]), (b[2], &p[1]), (b[0], &p[0])]);
+        let mut w = combine(&[(b[7], &p[3]), (b[5], &p[2]), (b[3], &p[1]), (b[1], &p[0])]);
+        mul_add(&mut w, &p[3], &z1);
+        let mut v = combine(&[(b[6], &p[3]), (b[4], &p[2]), (b[2], &p[1]), (b[0], &p[0])]);
+        mul_add(&mut v, &p[3], &z2);
         let u = mul(&s.x, &w);
         PadeParts { u, v, w, z: Some((z1, z2)) }
     } else {

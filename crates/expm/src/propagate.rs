@@ -235,7 +235,7 @@ impl SensitivityPropagator {
         macro_rules! fixed {
             ($($n:literal)*) => {
                 match self.n_states {
-                    $($n if self.n_outputs <= LANES => self.fixed_loop::<$n>(x0, s0, out),)*
+                    $($n if self.n_outputs <= FIXED_MAX_OUTPUTS => self.fixed_loop::<$n>(x0, s0, out),)*
                     _ => self.small_loop(x0, s0, out),
                 }
             };
@@ -243,85 +243,66 @@ impl SensitivityPropagator {
         fixed!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
     }
 
-    /// The small loop with N fixed at compile time; outputs padded to 8 lanes.
+    /// The small loop with N fixed at compile time. Outputs are formed in groups of four
+    /// (`QUAD` lanes) and written straight into `out`; the recurrence x ← Φx, sᵢ ← Φsᵢ + Ψᵢx
+    /// keeps two independent accumulation chains per product (see [`mat_vec_add`]), because at
+    /// this size a step is bound by the latency of its dependent multiply–adds.
     #[inline(always)]
     fn fixed_loop<const N: usize>(&self, x0: &[f64], s0: MatRef<'_, f64>, out: &mut Response) {
         let (j, p) = (self.n_params, self.n_outputs);
-        let column = |m: MatRef<'_, f64>, col: usize, row0: usize| -> [f64; N] {
-            std::array::from_fn(|r| m[(row0 + r, col)])
+        let groups = p.div_ceil(QUAD);
+        let square = |m: MatRef<'_, f64>, row0: usize| -> [[f64; N]; N] {
+            std::array::from_fn(|l| std::array::from_fn(|r| m[(row0 + r, l)]))
         };
-        let phi: Vec<[f64; N]> = (0..N).map(|l| column(self.phi.as_ref(), l, 0)).collect();
-        // psi[l·j + i] = Ψ_i[:, l]
-        let psi: Vec<[f64; N]> = (0..N)
-            .flat_map(|l| (0..j).map(move |i| (l, i)))
-            .map(|(l, i)| column(self.psi.as_ref(), l, i * N))
-            .collect();
-        let lanes = |m: MatRef<'_, f64>, col: usize, row0: usize| -> [f64; LANES] {
-            std::array::from_fn(|r| if r < p { m[(row0 + r, col)] } else { 0.0 })
-        };
-        let c: Vec<[f64; LANES]> = (0..N).map(|l| lanes(self.c.as_ref(), l, 0)).collect();
-        // dc[l·j + i] = ∂C/∂P_i[:, l]
-        let dc: Option<Vec<[f64; LANES]>> = self.dc.as_ref().map(|d| {
-            (0..N)
-                .flat_map(|l| (0..j).map(move |i| (l, i)))
-                .map(|(l, i)| lanes(d.as_ref(), l, i * p))
+        let phi = square(self.phi.as_ref(), 0);
+        let psi: Vec<[[f64; N]; N]> = (0..j).map(|i| square(self.psi.as_ref(), i * N)).collect();
+        // quads(m, row0)[g][l] = m[row0 + 4g .. row0 + 4g + 4, l], zero-padded past p.
+        let quads = |m: MatRef<'_, f64>, row0: usize| -> Vec<[[f64; QUAD]; N]> {
+            (0..groups)
+                .map(|g| {
+                    std::array::from_fn(|l| {
+                        std::array::from_fn(|r| {
+                            let row = g * QUAD + r;
+                            if row < p { m[(row0 + row, l)] } else { 0.0 }
+                        })
+                    })
+                })
                 .collect()
-        });
+        };
+        let c = quads(self.c.as_ref(), 0);
+        // dc[i][g]: the quads of ∂C/∂P_i.
+        let dc: Option<Vec<Vec<[[f64; QUAD]; N]>>> =
+            self.dc.as_ref().map(|d| (0..j).map(|i| quads(d.as_ref(), i * p)).collect());
         let mut x: [f64; N] = std::array::from_fn(|r| x0[r]);
         let mut sens: Vec<[f64; N]> = (0..j).map(|i| std::array::from_fn(|r| s0[(r, i)])).collect();
-        let mut sens_next = sens.clone();
         let k_samples = out.outputs.nrows();
-        let mut outputs = vec![0.0; k_samples * LANES];
-        let mut sensitivities = vec![0.0; k_samples * LANES * j];
+        let mut columns = Columns::new(out);
         for k in 0..k_samples {
-            let mut y = [0.0; LANES];
-            for l in 0..N {
-                for r in 0..LANES {
-                    y[r] += c[l][r] * x[l];
+            for (g, cg) in c.iter().enumerate() {
+                let rows = g * QUAD..(g * QUAD + QUAD).min(p);
+                let y = quad_product(cg, &x, [0.0; QUAD]);
+                for o in rows.clone() {
+                    columns.outputs[o][k] = y[o - g * QUAD];
                 }
-            }
-            outputs[k * LANES..(k + 1) * LANES].copy_from_slice(&y);
-            for i in 0..j {
-                let s = &sens[i];
-                let mut yi = [0.0; LANES];
-                for l in 0..N {
-                    for r in 0..LANES {
-                        yi[r] += c[l][r] * s[l];
+                for (i, s) in sens.iter().enumerate() {
+                    let mut yi = quad_product(cg, s, [0.0; QUAD]);
+                    if let Some(dc) = &dc {
+                        yi = quad_product(&dc[i][g], &x, yi);
+                    }
+                    for o in rows.clone() {
+                        columns.sensitivities[i][k * p + o] = yi[o - g * QUAD];
                     }
                 }
-                if let Some(dc) = &dc {
-                    for l in 0..N {
-                        for r in 0..LANES {
-                            yi[r] += dc[l * j + i][r] * x[l];
-                        }
-                    }
-                }
-                let at = (k * j + i) * LANES;
-                sensitivities[at..at + LANES].copy_from_slice(&yi);
             }
             if k + 1 == k_samples {
                 break;
             }
-            for i in 0..j {
-                let s = &sens[i];
-                let mut acc = [0.0; N];
-                for l in 0..N {
-                    for r in 0..N {
-                        acc[r] += phi[l][r] * s[l] + psi[l * j + i][r] * x[l];
-                    }
-                }
-                sens_next[i] = acc;
+            for (s, psi_i) in sens.iter_mut().zip(&psi) {
+                // Ψᵢx first: it does not wait for sᵢ, so only Φsᵢ is on the critical path.
+                *s = mat_vec_add(&phi, s, mat_vec_add(psi_i, &x, [0.0; N]));
             }
-            let mut x_next = [0.0; N];
-            for l in 0..N {
-                for r in 0..N {
-                    x_next[r] += phi[l][r] * x[l];
-                }
-            }
-            x = x_next;
-            std::mem::swap(&mut sens, &mut sens_next);
+            x = mat_vec_add(&phi, &x, [0.0; N]);
         }
-        scatter(out, &outputs, &sensitivities, LANES);
     }
 
     #[inline(always)]
@@ -488,8 +469,10 @@ impl pulp::WithSimd for SmallLoop<'_> {
     }
 }
 
-/// Output lanes of the fixed-size kernels.
-const LANES: usize = 8;
+/// Output lanes per group in the fixed-size kernels.
+const QUAD: usize = 4;
+/// Up to this many outputs the fixed-size kernels are used.
+const FIXED_MAX_OUTPUTS: usize = 8;
 
 /// Samples per chunk of the large-system path.
 const CHUNK: usize = 128;
@@ -536,6 +519,55 @@ impl GroupState {
             1.0,
             Par::Seq,
         );
+    }
+}
+
+/// acc + M v for a column-major N×N matrix (`m[l]` is column l), accumulated in two independent
+/// chains (even and odd columns) that are added at the end: half the dependent multiply–adds.
+#[inline(always)]
+fn mat_vec_add<const N: usize>(m: &[[f64; N]; N], v: &[f64; N], acc: [f64; N]) -> [f64; N] {
+    let mut even = acc;
+    let mut odd = [0.0; N];
+    for l in (0..N).step_by(2) {
+        for r in 0..N {
+            even[r] = m[l][r].mul_add(v[l], even[r]);
+        }
+        if l + 1 < N {
+            for r in 0..N {
+                odd[r] = m[l + 1][r].mul_add(v[l + 1], odd[r]);
+            }
+        }
+    }
+    std::array::from_fn(|r| even[r] + odd[r])
+}
+
+/// acc + C_g v for one group of four output rows (`cg[l]` holds column l of the group).
+#[inline(always)]
+fn quad_product<const N: usize>(cg: &[[f64; QUAD]; N], v: &[f64; N], acc: [f64; QUAD]) -> [f64; QUAD] {
+    let mut y = acc;
+    for l in 0..N {
+        for r in 0..QUAD {
+            y[r] = cg[l][r].mul_add(v[l], y[r]);
+        }
+    }
+    y
+}
+
+/// The columns of a [`Response`] as mutable slices, for writing one sample at a time.
+struct Columns<'a> {
+    outputs: Vec<&'a mut [f64]>,
+    sensitivities: Vec<&'a mut [f64]>,
+}
+
+impl<'a> Columns<'a> {
+    fn new(out: &'a mut Response) -> Self {
+        let slices = |m: &'a mut Mat<f64>| -> Vec<&'a mut [f64]> {
+            m.as_mut()
+                .col_iter_mut()
+                .map(|c| c.try_as_col_major_mut().expect("an owned Mat is column-major").as_slice_mut())
+                .collect()
+        };
+        Self { outputs: slices(&mut out.outputs), sensitivities: slices(&mut out.sensitivities) }
     }
 }
 

@@ -1,5 +1,6 @@
 //! Residuals and sensitivities of all experiments at one P (Eqs. 11–12, stacked).
 
+use crate::vector::sum_squares;
 use crate::{Experiment, MemError};
 use expm::Response;
 use faer::Mat;
@@ -17,7 +18,7 @@ pub(crate) struct Evaluation {
 /// Simulates every experiment at P (in parallel when there are several).
 pub(crate) fn evaluate(experiments: &[Experiment<'_>], p: &[f64]) -> Result<Evaluation, MemError> {
     let n_rows: usize = experiments.iter().map(|e| e.data.n_samples() * e.data.n_outputs()).sum();
-    let mut residual = Vec::with_capacity(n_rows);
+    let mut residual: Vec<f64> = Vec::with_capacity(n_rows);
     let mut sensitivity = Mat::<f64>::zeros(n_rows, p.len());
     let mut row = 0;
     let simulate = |(index, e): (usize, &Experiment<'_>)| {
@@ -38,9 +39,16 @@ pub(crate) fn evaluate(experiments: &[Experiment<'_>], p: &[f64]) -> Result<Eval
     for (e, out) in experiments.iter().zip(responses) {
         let (k, n_out) = (e.data.n_samples(), e.data.n_outputs());
         let measured = e.data.values();
-        for step in 0..k {
-            for o in 0..n_out {
-                residual.push(e.weights[o] * (measured[(step, o)] - out.outputs[(step, o)]));
+        // Residual rows (k, o) from the column-major measurement and model outputs.
+        residual.resize(row + k * n_out, 0.0);
+        let rows = &mut residual[row..];
+        for o in 0..n_out {
+            let w = e.weights[o];
+            let meas = measured.col(o).try_as_col_major().expect("an owned Mat is column-major").as_slice();
+            let model =
+                out.outputs.col(o).try_as_col_major().expect("an owned Mat is column-major").as_slice();
+            for (chunk, (m, y)) in rows.chunks_exact_mut(n_out).zip(meas.iter().zip(model)) {
+                chunk[o] = w * (m - y);
             }
         }
         // Weighted sensitivities, column by column on contiguous slices.
@@ -52,12 +60,14 @@ pub(crate) fn evaluate(experiments: &[Experiment<'_>], p: &[f64]) -> Result<Eval
                 .try_as_col_major_mut()
                 .expect("an owned Mat is column-major")
                 .as_slice_mut();
-            for (r, (d, v)) in dst[row..row + k * n_out].iter_mut().zip(src).enumerate() {
-                *d = e.weights[r % n_out] * v;
+            for (d, v) in dst[row..row + k * n_out].chunks_exact_mut(n_out).zip(src.chunks_exact(n_out)) {
+                for ((d, v), w) in d.iter_mut().zip(v).zip(&e.weights) {
+                    *d = w * v;
+                }
             }
         }
         row += k * n_out;
     }
-    let cost = residual.iter().map(|r| r * r).sum();
+    let cost = sum_squares(&residual);
     Ok(Evaluation { residual, sensitivity, cost })
 }

@@ -79,6 +79,7 @@ mod fit;
 mod model;
 mod report;
 mod solve;
+mod vector;
 
 pub use data::Measurement;
 pub use error::{BoxedError, MemError};

@@ -10,6 +10,7 @@
 //! costs O(j²) each: the SVD is reused.
 
 use crate::MemError;
+use crate::vector::{dot, subtract_scaled, sum_squares};
 use faer::{Mat, MatRef};
 
 /// One iteration's decomposition of S and the projections of r.
@@ -32,13 +33,7 @@ impl StepSolver {
         if s.nrows() < j {
             return Err(MemError::Shape(format!("{} residuals cannot determine {j} parameters", s.nrows())));
         }
-        let scale: Vec<f64> = (0..j)
-            .map(|c| {
-                let n = s.col(c).norm_l2();
-                if n > 0.0 { n } else { 1.0 }
-            })
-            .collect();
-        let (r_factor, qtr) = householder_qr(s, &scale, r);
+        let (r_factor, qtr, scale) = householder_qr(s, r);
         let svd = r_factor.thin_svd().map_err(|_| MemError::Svd)?;
         let sv: Vec<f64> = (0..j).map(|i| svd.S()[i]).collect();
         let u = svd.U();
@@ -85,37 +80,46 @@ impl StepSolver {
     }
 }
 
-/// Householder QR of S·diag(1/scale) (m × j, m ≥ j): returns R (j × j, upper triangular) and
-/// the first j entries of Qᵀ r. Works on a column-major copy; O(m j²).
-fn householder_qr(s: MatRef<'_, f64>, scale: &[f64], r: &[f64]) -> (Mat<f64>, Vec<f64>) {
+/// Column scales D (the column norms, 1 for a zero column) and the Householder QR of
+/// S·D⁻¹ (m × j, m ≥ j): returns R (j × j, upper triangular), the first j entries of Qᵀ r and D.
+/// Works on a column-major copy; O(m j²).
+fn householder_qr(s: MatRef<'_, f64>, r: &[f64]) -> (Mat<f64>, Vec<f64>, Vec<f64>) {
     let (m, j) = (s.nrows(), s.ncols());
     let mut a: Vec<f64> = Vec::with_capacity(m * j);
+    let mut scale = Vec::with_capacity(j);
     for c in 0..j {
+        let start = a.len();
         match s.col(c).try_as_col_major() {
-            Some(col) => a.extend(col.as_slice().iter().map(|v| v / scale[c])),
-            None => a.extend((0..m).map(|i| s[(i, c)] / scale[c])),
+            Some(col) => a.extend_from_slice(col.as_slice()),
+            None => a.extend((0..m).map(|i| s[(i, c)])),
         }
+        let column = &mut a[start..];
+        let mut norm = sum_squares(column).sqrt();
+        if !norm.is_finite() {
+            // Entries beyond 1e154 overflow the plain sum of squares; faer's norm rescales.
+            norm = faer::ColRef::from_slice(column).norm_l2();
+        }
+        let d = if norm > 0.0 { norm } else { 1.0 };
+        column.iter_mut().for_each(|v| *v /= d);
+        scale.push(d);
     }
     let mut b = r.to_vec();
     let mut diag = vec![0.0; j];
     for k in 0..j.min(m) {
         let (head, tail) = a.split_at_mut((k + 1) * m);
         let col = &mut head[k * m..];
-        let norm = col[k..].iter().map(|v| v * v).sum::<f64>().sqrt();
+        let norm = sum_squares(&col[k..]).sqrt();
         if norm == 0.0 {
             diag[k] = 0.0;
             continue;
         }
         let alpha = if col[k] > 0.0 { -norm } else { norm };
         col[k] -= alpha; // v = x − αe₁, stored in place
-        let vnorm2: f64 = col[k..].iter().map(|v| v * v).sum();
+        let vnorm2 = sum_squares(&col[k..]);
         diag[k] = alpha;
         let apply = |target: &mut [f64]| {
-            let dot: f64 = col[k..].iter().zip(&target[k..]).map(|(v, t)| v * t).sum();
-            let f = 2.0 * dot / vnorm2;
-            for (t, v) in target[k..].iter_mut().zip(&col[k..]) {
-                *t -= f * v;
-            }
+            let f = 2.0 * dot(&col[k..], &target[k..]) / vnorm2;
+            subtract_scaled(&mut target[k..], f, &col[k..]);
         };
         for c in 0..(j - k - 1) {
             apply(&mut tail[c * m..(c + 1) * m]);
@@ -131,5 +135,5 @@ fn householder_qr(s: MatRef<'_, f64>, scale: &[f64], r: &[f64]) -> (Mat<f64>, Ve
             0.0
         }
     });
-    (r_factor, b[..j].to_vec())
+    (r_factor, b[..j].to_vec(), scale)
 }
