@@ -2,7 +2,6 @@
 
 use crate::pade::{self, Target};
 use crate::{ExpmError, check};
-use faer::linalg::solvers::Solve;
 use faer::{Mat, MatRef};
 
 /// The matrix exponential e^A.
@@ -34,9 +33,9 @@ pub fn expm(a: MatRef<'_, f64>) -> Result<Mat<f64>, ExpmError> {
         // e^{Aᵀ} = (e^A)ᵀ: a lower triangular matrix gets the triangular treatment too.
         return Ok(expm(a.transpose())?.transpose().to_owned());
     }
-    let scaled = pade::choose(a, Target::Exponential);
+    let scaled = pade::choose(&a.to_owned(), Target::Exponential);
     let parts = pade::evaluate(&scaled);
-    let mut r = pade_quotient(&parts.u, &parts.v).0;
+    let mut r = pade::quotient(&parts.u, &parts.v).0;
     let triangular = is_upper_triangular(a);
     if triangular {
         exact_diagonals(&mut r, a, scaled.squarings);
@@ -78,20 +77,8 @@ fn sinch(x: f64) -> f64 {
     if x.abs() < 0.0135 { 1.0 + (x2 / 6.0) * (1.0 + (x2 / 20.0) * (1.0 + x2 / 42.0)) } else { x.sinh() / x }
 }
 
-/// r_m = (V − U)⁻¹ (V + U), and the factorisation of V − U for later solves.
-pub(crate) fn pade_quotient(
-    u: &Mat<f64>,
-    v: &Mat<f64>,
-) -> (Mat<f64>, faer::linalg::solvers::PartialPivLu<f64>) {
-    let q = pade::combine(&[(1.0, v), (-1.0, u)]);
-    let mut p = pade::combine(&[(1.0, v), (1.0, u)]);
-    let lu = q.partial_piv_lu();
-    lu.solve_in_place(&mut p);
-    (p, lu)
-}
-
 /// Returns `m` if all its entries are finite, else [`ExpmError::Overflow`].
-pub(crate) fn overflow_check(m: Mat<f64>, a: MatRef<'_, f64>, squarings: u32) -> Result<Mat<f64>, ExpmError> {
+fn overflow_check(m: Mat<f64>, a: MatRef<'_, f64>, squarings: u32) -> Result<Mat<f64>, ExpmError> {
     if check::finite("result", m.as_ref()).is_err() {
         return Err(ExpmError::Overflow { norm: crate::norm1(a), squarings });
     }

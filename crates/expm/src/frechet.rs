@@ -8,12 +8,107 @@
 //! does not depend on E — the powers, U, V, the LU factors of V − U and the squares R_k — is
 //! computed once in [`ExpmFrechet::new`] and shared by every direction.
 
-use crate::exponential::{overflow_check, pade_quotient};
-use crate::kernel::{mul, mul_add, two_products};
-use crate::pade::{self, PadeParts, Scaled, Target, combine};
+use crate::pade::{self, PadeParts, Scaled, Target};
+use crate::square::Square;
 use crate::{ExpmError, check};
-use faer::linalg::solvers::{PartialPivLu, Solve};
 use faer::{Mat, MatRef};
+
+/// The E-independent part of Algorithm 6.4 for any [`Square`] storage.
+pub(crate) struct Frechet<M: Square> {
+    /// ‖A‖₁, for overflow reports.
+    norm: f64,
+    scaled: Scaled<M>,
+    /// The odd-part polynomial W of r_m (U = X W).
+    w: M,
+    /// m = 13 only: Z₁ and Z₂ of [`PadeParts`].
+    z: Option<(M, M)>,
+    lu: M::Lu,
+    /// R_0 = r_m(X), R_1 = R_0², …, R_s = e^A.
+    squares: Vec<M>,
+}
+
+impl<M: Square> Frechet<M> {
+    /// e^A and the shared factors (A already checked to be square and finite).
+    pub(crate) fn new(a: &M) -> Result<Self, ExpmError> {
+        let norm = a.norm1();
+        let scaled = pade::choose(a, Target::FrechetDerivative);
+        let PadeParts { u, v, w, z } = pade::evaluate(&scaled);
+        let (r0, lu) = pade::quotient(&u, &v);
+        let mut squares = Vec::with_capacity(scaled.squarings as usize + 1);
+        squares.push(r0);
+        for k in 0..scaled.squarings as usize {
+            let next = squares[k].product(&squares[k]);
+            squares.push(next);
+        }
+        if !squares.last().expect("at least R_0").all_finite() {
+            return Err(ExpmError::Overflow { norm, squarings: scaled.squarings });
+        }
+        Ok(Self { norm, scaled, w, z, lu, squares })
+    }
+
+    /// e^A.
+    pub(crate) fn exp(&self) -> &M {
+        self.squares.last().expect("at least R_0")
+    }
+
+    /// L(A, E) (E already checked to be of the same order and finite).
+    pub(crate) fn derivative(&self, e: &M) -> Result<M, ExpmError> {
+        let s = &self.scaled;
+        let b = pade::coefficients(s.degree);
+        let p = &s.powers;
+        let x = &s.x;
+        let mut f = e.clone();
+        f.scale(s.scale);
+        // m[k − 1] = M_k = d(X^{2k}) in direction F.
+        let mut m: Vec<M> = Vec::with_capacity(p.len() - 1);
+        m.push(M::two_products(x, &f, &f, x));
+        if p.len() > 2 {
+            m.push(M::two_products(&p[1], &m[0], &m[0], &p[1]));
+        }
+        if p.len() > 3 {
+            m.push(M::two_products(&p[2], &m[0], &m[1], &p[1]));
+        }
+        if p.len() > 4 {
+            m.push(M::two_products(&p[2], &m[1], &m[1], &p[2]));
+        }
+        let (lu_u, lu_v) = match &self.z {
+            Some((z1, z2)) => {
+                let lz1 = M::combination(&[(b[13], &m[2]), (b[11], &m[1]), (b[9], &m[0])]);
+                let lz2 = M::combination(&[(b[12], &m[2]), (b[10], &m[1]), (b[8], &m[0])]);
+                let mut lw = M::combination(&[(b[7], &m[2]), (b[5], &m[1]), (b[3], &m[0])]);
+                lw.add_product(&p[3], &lz1);
+                lw.add_product(&m[2], z1);
+                let lu_u = M::two_products(x, &lw, &f, &self.w);
+                let mut lu_v = M::combination(&[(b[6], &m[2]), (b[4], &m[1]), (b[2], &m[0])]);
+                lu_v.add_product(&p[3], &lz2);
+                lu_v.add_product(&m[2], z2);
+                (lu_u, lu_v)
+            }
+            None => {
+                let odd: Vec<(f64, &M)> = m.iter().enumerate().map(|(k, mk)| (b[2 * k + 3], mk)).collect();
+                let even: Vec<(f64, &M)> = m.iter().enumerate().map(|(k, mk)| (b[2 * k + 2], mk)).collect();
+                (M::two_products(x, &M::combination(&odd), &f, &self.w), M::combination(&even))
+            }
+        };
+        // (V − U) L_r = (L_U + L_V) + (L_U − L_V) r_m(X)
+        let difference = M::combination(&[(1.0, &lu_u), (-1.0, &lu_v)]);
+        let mut l = M::combination(&[(1.0, &lu_u), (1.0, &lu_v)]);
+        l.add_product(&difference, &self.squares[0]);
+        M::solve_in_place(&self.lu, &mut l);
+        for r in &self.squares[..self.squares.len() - 1] {
+            l = M::two_products(r, &l, &l, r);
+        }
+        if !l.all_finite() {
+            return Err(ExpmError::Overflow { norm: self.norm, squarings: s.squarings });
+        }
+        Ok(l)
+    }
+
+    /// The Padé degree m and the number of squarings s that were chosen.
+    pub(crate) fn choice(&self) -> (usize, u32) {
+        (self.scaled.degree, self.scaled.squarings)
+    }
+}
 
 /// e^A together with everything needed to evaluate L(A, E) for any number of directions E.
 ///
@@ -28,15 +123,7 @@ use faer::{Mat, MatRef};
 /// ```
 pub struct ExpmFrechet {
     n: usize,
-    norm: f64,
-    scaled: Scaled,
-    /// The odd-part polynomial W of r_m (U = X W).
-    w: Mat<f64>,
-    /// m = 13 only: Z₁ and Z₂ of [`PadeParts`].
-    z: Option<(Mat<f64>, Mat<f64>)>,
-    lu: PartialPivLu<f64>,
-    /// R_0 = r_m(X), R_1 = R_0², …, R_s = e^A.
-    squares: Vec<Mat<f64>>,
+    core: Frechet<Mat<f64>>,
 }
 
 impl ExpmFrechet {
@@ -47,18 +134,7 @@ impl ExpmFrechet {
     pub fn new(a: MatRef<'_, f64>) -> Result<Self, ExpmError> {
         let n = check::square("a", a)?;
         check::finite("a", a)?;
-        let scaled = pade::choose(a, Target::FrechetDerivative);
-        let PadeParts { u, v, w, z } = pade::evaluate(&scaled);
-        let (r0, lu) = pade_quotient(&u, &v);
-        let mut squares = Vec::with_capacity(scaled.squarings as usize + 1);
-        squares.push(r0);
-        for k in 0..scaled.squarings as usize {
-            let next = mul(&squares[k], &squares[k]);
-            squares.push(next);
-        }
-        let last = squares.pop().expect("at least R_0");
-        squares.push(overflow_check(last, a, scaled.squarings)?);
-        Ok(Self { n, norm: crate::norm1(a), scaled, w, z, lu, squares })
+        Ok(Self { n, core: Frechet::new(&a.to_owned())? })
     }
 
     /// The order of A.
@@ -68,17 +144,17 @@ impl ExpmFrechet {
 
     /// e^A.
     pub fn exp(&self) -> MatRef<'_, f64> {
-        self.squares.last().expect("at least R_0").as_ref()
+        self.core.exp().as_ref()
     }
 
     /// The Padé degree m that was chosen.
     pub fn degree(&self) -> usize {
-        self.scaled.degree
+        self.core.choice().0
     }
 
     /// The number of squarings s that was chosen.
     pub fn squarings(&self) -> u32 {
-        self.scaled.squarings
+        self.core.choice().1
     }
 
     /// L(A, E), the Fréchet derivative of e^A in direction E.
@@ -89,56 +165,7 @@ impl ExpmFrechet {
     pub fn derivative(&self, e: MatRef<'_, f64>) -> Result<Mat<f64>, ExpmError> {
         check::shape("e", e, self.n, self.n)?;
         check::finite("e", e)?;
-        let s = &self.scaled;
-        let b = pade::coefficients(s.degree);
-        let p = &s.powers;
-        let x = &s.x;
-        let f = Mat::from_fn(self.n, self.n, |r, c| e[(r, c)] * s.scale);
-        // m[k − 1] = M_k = d(X^{2k}) in direction F.
-        let mut m: Vec<Mat<f64>> = Vec::with_capacity(p.len() - 1);
-        m.push(two_products(x, &f, &f, x));
-        if p.len() > 2 {
-            m.push(two_products(&p[1], &m[0], &m[0], &p[1]));
-        }
-        if p.len() > 3 {
-            m.push(two_products(&p[2], &m[0], &m[1], &p[1]));
-        }
-        if p.len() > 4 {
-            m.push(two_products(&p[2], &m[1], &m[1], &p[2]));
-        }
-        let (lu_u, lu_v) = match &self.z {
-            Some((z1, z2)) => {
-                let lz1 = combine(&[(b[13], &m[2]), (b[11], &m[1]), (b[9], &m[0])]);
-                let lz2 = combine(&[(b[12], &m[2]), (b[10], &m[1]), (b[8], &m[0])]);
-                let mut lw = combine(&[(b[7], &m[2]), (b[5], &m[1]), (b[3], &m[0])]);
-                mul_add(&mut lw, &p[3], &lz1);
-                mul_add(&mut lw, &m[2], z1);
-                let lu_u = two_products(x, &lw, &f, &self.w);
-                let mut lu_v = combine(&[(b[6], &m[2]), (b[4], &m[1]), (b[2], &m[0])]);
-                mul_add(&mut lu_v, &p[3], &lz2);
-                mul_add(&mut lu_v, &m[2], z2);
-                (lu_u, lu_v)
-            }
-            None => {
-                let odd: Vec<(f64, &Mat<f64>)> =
-                    m.iter().enumerate().map(|(k, mk)| (b[2 * k + 3], mk)).collect();
-                let even: Vec<(f64, &Mat<f64>)> =
-                    m.iter().enumerate().map(|(k, mk)| (b[2 * k + 2], mk)).collect();
-                (two_products(x, &combine(&odd), &f, &self.w), combine(&even))
-            }
-        };
-        // (V − U) L_r = (L_U + L_V) + (L_U − L_V) r_m(X)
-        let difference = combine(&[(1.0, &lu_u), (-1.0, &lu_v)]);
-        let mut l = combine(&[(1.0, &lu_u), (1.0, &lu_v)]);
-        mul_add(&mut l, &difference, &self.squares[0]);
-        self.lu.solve_in_place(&mut l);
-        for r in &self.squares[..self.squares.len() - 1] {
-            l = two_products(r, &l, &l, r);
-        }
-        if check::finite("result", l.as_ref()).is_err() {
-            return Err(ExpmError::Overflow { norm: self.norm, squarings: s.squarings });
-        }
-        Ok(l)
+        self.core.derivative(&e.to_owned())
     }
 }
 

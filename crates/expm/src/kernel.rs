@@ -29,10 +29,3 @@ pub(crate) fn mul_ref(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
 pub(crate) fn mul_add(out: &mut Mat<f64>, a: &Mat<f64>, b: &Mat<f64>) {
     product_into(out.as_mut(), Accum::Add, a.as_ref(), b.as_ref());
 }
-
-/// A₁B₁ + A₂B₂, in one buffer.
-pub(crate) fn two_products(a1: &Mat<f64>, b1: &Mat<f64>, a2: &Mat<f64>, b2: &Mat<f64>) -> Mat<f64> {
-    let mut out = mul(a1, b1);
-    mul_add(&mut out, a2, b2);
-    out
-}

@@ -50,12 +50,14 @@
 mod check;
 mod error;
 mod exponential;
+mod fixed;
 mod frechet;
 mod kernel;
 mod modal;
 mod norm;
 mod pade;
 mod propagate;
+mod square;
 
 pub use error::ExpmError;
 pub use exponential::expm;

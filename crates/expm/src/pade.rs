@@ -13,9 +13,7 @@
 //! Al-Mohy & Higham (2009b, Table 6.1), which bound the backward error of L(X, E) as well;
 //! the same Theorem 4.2 lets them be compared with α_p(X).
 
-use crate::kernel::{mul, mul_add, mul_ref};
-use crate::norm::{abs_power_norm1, estimate_product_norm1, norm1};
-use faer::{Mat, MatRef};
+use crate::square::{EXACT_POWER_NORMS, Square};
 
 /// Unit roundoff of `f64`, 2⁻⁵³.
 pub(crate) const UNIT_ROUNDOFF: f64 = 1.110_223_024_625_156_5e-16;
@@ -100,12 +98,12 @@ fn reciprocal_leading_coefficient(m: usize) -> f64 {
 
 /// ℓ(X, m) of Al-Mohy & Higham (2009a), Eq. 5.1: extra squarings needed so that the rounding
 /// errors in evaluating r_m(X) stay below the unit roundoff.
-fn extra_squarings(x: MatRef<'_, f64>, m: usize) -> u32 {
-    let norm = norm1(x);
+fn extra_squarings<M: Square>(x: &M, m: usize) -> u32 {
+    let norm = x.norm1();
     if norm == 0.0 {
         return 0;
     }
-    let alpha = abs_power_norm1(x, 2 * m + 1) / (reciprocal_leading_coefficient(m) * norm);
+    let alpha = x.abs_power_norm1(2 * m + 1) / (reciprocal_leading_coefficient(m) * norm);
     if alpha.is_nan() || alpha <= 0.0 {
         return 0;
     }
@@ -113,14 +111,11 @@ fn extra_squarings(x: MatRef<'_, f64>, m: usize) -> u32 {
     if value.is_finite() && value > 0.0 { value as u32 } else { 0 }
 }
 
-/// Up to this order the norms of matrix powers are computed exactly.
-const EXACT_POWER_NORMS: usize = 64;
-
 /// Above this one-norm, A is halved before its powers are formed (A⁸ would overflow).
 const HUGE_NORM: f64 = 1e30;
 
 /// The even powers of the scaled matrix that the chosen degree needs, and the choice itself.
-pub(crate) struct Scaled {
+pub(crate) struct Scaled<M> {
     /// Padé degree m.
     pub degree: usize,
     /// Number of squarings s.
@@ -128,154 +123,123 @@ pub(crate) struct Scaled {
     /// 2⁻ˢ (the factor applied to A and to every direction E).
     pub scale: f64,
     /// X = 2⁻ˢ A.
-    pub x: Mat<f64>,
+    pub x: M,
     /// [I, X², X⁴, X⁶, X⁸] as far as the degree needs (X⁸ only for m = 9).
-    pub powers: Vec<Mat<f64>>,
-}
-
-fn scale_in_place(m: &mut Mat<f64>, factor: f64) {
-    for j in 0..m.ncols() {
-        for i in 0..m.nrows() {
-            m[(i, j)] *= factor;
-        }
-    }
+    pub powers: Vec<M>,
 }
 
 /// Algorithm 5.1 of Al-Mohy & Higham (2009a): choose m and s, form the needed powers.
-pub(crate) fn choose(a: MatRef<'_, f64>, target: Target) -> Scaled {
+pub(crate) fn choose<M: Square>(a: &M, target: Target) -> Scaled<M> {
     // Powers of a matrix with a huge norm would overflow before they are scaled: halve first.
-    let norm = norm1(a);
+    let norm = a.norm1();
     if norm > HUGE_NORM {
         let extra = norm.log2().ceil() as u32;
-        let mut smaller = a.to_owned();
-        scale_in_place(&mut smaller, 0.5f64.powi(extra as i32));
-        let mut s = choose(smaller.as_ref(), target);
+        let mut smaller = a.clone();
+        smaller.scale(0.5f64.powi(extra as i32));
+        let mut s = choose(&smaller, target);
         s.squarings += extra;
         s.scale *= 0.5f64.powi(extra as i32);
         return s;
     }
-    let n = a.nrows();
-    let finish = |degree: usize, squarings: u32, mut powers: Vec<Mat<f64>>| {
+    let n = a.order();
+    let finish = |degree: usize, squarings: u32, mut powers: Vec<M>| {
         let scale = 0.5f64.powi(squarings as i32);
-        let mut x = a.to_owned();
+        let mut x = a.clone();
         if squarings > 0 {
-            scale_in_place(&mut x, scale);
+            x.scale(scale);
             for (k, p) in powers.iter_mut().enumerate().skip(1) {
-                scale_in_place(p, scale.powi(2 * k as i32));
+                p.scale(scale.powi(2 * k as i32));
             }
         }
         Scaled { degree, squarings, scale, x, powers }
     };
-    let identity = Mat::<f64>::identity(n, n);
-    let a2 = mul_ref(a, a);
-    // Norms of powers that are not formed anyway: exact (by forming them) for small n, where a
-    // product is cheaper than the estimator's bookkeeping; estimated for large n.
-    let power_norm = |factors: &[&Mat<f64>]| {
-        if n <= EXACT_POWER_NORMS {
-            let mut product = mul(factors[0], factors[1]);
-            for f in &factors[2..] {
-                product = mul(&product, f);
-            }
-            norm1(product.as_ref())
-        } else {
-            estimate_product_norm1(&factors.iter().map(|f| f.as_ref()).collect::<Vec<_>>())
-        }
-    };
-    // For small n, A⁴ and A⁶ are formed now (they are needed for m ≥ 5 anyway).
+    let identity = M::identity(n);
+    let a2 = a.product(a);
+    // For small n, A⁴ and A⁶ are formed now (they are needed for m ≥ 5 anyway, and the exact
+    // norms of the powers are cheaper than the estimator's bookkeeping).
     let small = n <= EXACT_POWER_NORMS;
-    let a4_early = small.then(|| mul(&a2, &a2));
-    let a6_early = a4_early.as_ref().map(|a4| mul(&a2, a4));
+    let a4_early = small.then(|| a2.product(&a2));
+    let a6_early = a4_early.as_ref().map(|a4| a2.product(a4));
     let d4_estimate = match &a4_early {
-        Some(a4) => norm1(a4.as_ref()),
-        None => power_norm(&[&a2, &a2]),
+        Some(a4) => a4.norm1(),
+        None => M::product_norm1(&[&a2, &a2]),
     }
     .powf(0.25);
     let d6_estimate = match &a6_early {
-        Some(a6) => norm1(a6.as_ref()),
-        None => power_norm(&[&a2, &a2, &a2]),
+        Some(a6) => a6.norm1(),
+        None => M::product_norm1(&[&a2, &a2, &a2]),
     }
     .powf(1.0 / 6.0);
     let eta1 = d4_estimate.max(d6_estimate);
     if eta1 <= target.threshold(3) && extra_squarings(a, 3) == 0 {
         return finish(3, 0, vec![identity, a2]);
     }
-    let a4 = a4_early.unwrap_or_else(|| mul(&a2, &a2));
-    let d4 = norm1(a4.as_ref()).powf(0.25);
+    let a4 = a4_early.unwrap_or_else(|| a2.product(&a2));
+    let d4 = a4.norm1().powf(0.25);
     let eta2 = d4.max(d6_estimate);
     if eta2 <= target.threshold(5) && extra_squarings(a, 5) == 0 {
         return finish(5, 0, vec![identity, a2, a4]);
     }
-    let a6 = a6_early.unwrap_or_else(|| mul(&a2, &a4));
-    let d6 = norm1(a6.as_ref()).powf(1.0 / 6.0);
-    let d8 = power_norm(&[&a4, &a4]).powf(0.125);
+    let a6 = a6_early.unwrap_or_else(|| a2.product(&a4));
+    let d6 = a6.norm1().powf(1.0 / 6.0);
+    let d8 = M::product_norm1(&[&a4, &a4]).powf(0.125);
     let eta3 = d6.max(d8);
     if eta3 <= target.threshold(7) && extra_squarings(a, 7) == 0 {
         return finish(7, 0, vec![identity, a2, a4, a6]);
     }
     if eta3 <= target.threshold(9) && extra_squarings(a, 9) == 0 {
-        let a8 = mul(&a4, &a4);
+        let a8 = a4.product(&a4);
         return finish(9, 0, vec![identity, a2, a4, a6, a8]);
     }
-    let d10 = power_norm(&[&a4, &a6]).powf(0.1);
+    let d10 = M::product_norm1(&[&a4, &a6]).powf(0.1);
     let eta4 = d8.max(d10);
     let eta5 = eta3.min(eta4);
     let mut squarings =
         if eta5 > 0.0 { (eta5 / target.threshold(13)).log2().ceil().max(0.0) as u32 } else { 0 };
-    let mut scaled = a.to_owned();
-    scale_in_place(&mut scaled, 0.5f64.powi(squarings as i32));
-    squarings += extra_squarings(scaled.as_ref(), 13);
+    let mut scaled = a.clone();
+    scaled.scale(0.5f64.powi(squarings as i32));
+    squarings += extra_squarings(&scaled, 13);
     finish(13, squarings, vec![identity, a2, a4, a6])
 }
 
-/// Σ_k c_k · M_k + (optionally) nothing else: a linear combination of equally sized matrices.
-pub(crate) fn combine(terms: &[(f64, &Mat<f64>)]) -> Mat<f64> {
-    let (nrows, ncols) = (terms[0].1.nrows(), terms[0].1.ncols());
-    let mut out = Mat::<f64>::zeros(nrows, ncols);
-    for (c, m) in terms {
-        if *c == 0.0 {
-            continue;
-        }
-        for j in 0..ncols {
-            let target =
-                out.col_mut(j).try_as_col_major_mut().expect("a fresh Mat is column-major").as_slice_mut();
-            let source = m.col(j).try_as_col_major().expect("an owned Mat is column-major").as_slice();
-            for (t, v) in target.iter_mut().zip(source) {
-                *t += c * v;
-            }
-        }
-    }
-    out
-}
-
 /// U and V of r_m(X), with the odd-part polynomial W (U = X W) kept for the Fréchet derivative.
-pub(crate) struct PadeParts {
-    pub u: Mat<f64>,
-    pub v: Mat<f64>,
+pub(crate) struct PadeParts<M> {
+    pub u: M,
+    pub v: M,
     /// m ≤ 9: W = Σ b_{2k+1} X^{2k}.  m = 13: W = X⁶ Z₁ + b₇X⁶ + b₅X⁴ + b₃X² + b₁I.
-    pub w: Mat<f64>,
+    pub w: M,
     /// m = 13 only: Z₁ = b₁₃X⁶ + b₁₁X⁴ + b₉X² and Z₂ = b₁₂X⁶ + b₁₀X⁴ + b₈X².
-    pub z: Option<(Mat<f64>, Mat<f64>)>,
+    pub z: Option<(M, M)>,
 }
 
 /// Evaluates U and V of the chosen degree (Higham 2005, Eqs. 2.3–2.4 for m = 13).
-pub(crate) fn evaluate(s: &Scaled) -> PadeParts {
+pub(crate) fn evaluate<M: Square>(s: &Scaled<M>) -> PadeParts<M> {
     let b = coefficients(s.degree);
     let p = &s.powers;
     if s.degree == 13 {
-        let z1 = combine(&[(b[13], &p[3]), (b[11], &p[2]), (b[9], &p[1])]);
-        let z2 = combine(&[(b[12], &p[3]), (b[10], &p[2]), (b[8], &p[1])]);
-        let mut w = combine(&[(b[7], &p[3]), (b[5], &p[2]), (b[3], &p[1]), (b[1], &p[0])]);
-        mul_add(&mut w, &p[3], &z1);
-        let mut v = combine(&[(b[6], &p[3]), (b[4], &p[2]), (b[2], &p[1]), (b[0], &p[0])]);
-        mul_add(&mut v, &p[3], &z2);
-        let u = mul(&s.x, &w);
+        let z1 = M::combination(&[(b[13], &p[3]), (b[11], &p[2]), (b[9], &p[1])]);
+        let z2 = M::combination(&[(b[12], &p[3]), (b[10], &p[2]), (b[8], &p[1])]);
+        let mut w = M::combination(&[(b[7], &p[3]), (b[5], &p[2]), (b[3], &p[1]), (b[1], &p[0])]);
+        w.add_product(&p[3], &z1);
+        let mut v = M::combination(&[(b[6], &p[3]), (b[4], &p[2]), (b[2], &p[1]), (b[0], &p[0])]);
+        v.add_product(&p[3], &z2);
+        let u = s.x.product(&w);
         PadeParts { u, v, w, z: Some((z1, z2)) }
     } else {
-        let odd: Vec<(f64, &Mat<f64>)> = p.iter().enumerate().map(|(k, m)| (b[2 * k + 1], m)).collect();
-        let even: Vec<(f64, &Mat<f64>)> = p.iter().enumerate().map(|(k, m)| (b[2 * k], m)).collect();
-        let w = combine(&odd);
-        let v = combine(&even);
-        let u = mul(&s.x, &w);
+        let odd: Vec<(f64, &M)> = p.iter().enumerate().map(|(k, m)| (b[2 * k + 1], m)).collect();
+        let even: Vec<(f64, &M)> = p.iter().enumerate().map(|(k, m)| (b[2 * k], m)).collect();
+        let w = M::combination(&odd);
+        let v = M::combination(&even);
+        let u = s.x.product(&w);
         PadeParts { u, v, w, z: None }
     }
+}
+
+/// r_m = (V − U)⁻¹ (V + U), and the factorisation of V − U for later solves.
+pub(crate) fn quotient<M: Square>(u: &M, v: &M) -> (M, M::Lu) {
+    let q = M::combination(&[(1.0, v), (-1.0, u)]);
+    let mut p = M::combination(&[(1.0, v), (1.0, u)]);
+    let lu = q.lu();
+    M::solve_in_place(&lu, &mut p);
+    (p, lu)
 }

@@ -1,9 +1,48 @@
 //! The discrete-time MEM sensitivity propagator (paper Eq. 9 at a constant sample interval).
 
-use crate::frechet::ExpmFrechet;
+use crate::fixed::Fixed;
+use crate::frechet::Frechet;
+use crate::square::Square;
 use crate::{ExpmError, check};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatRef, Par};
+
+/// Φ = e^{Ah} and the stacked Ψ_i = L(Ah, h ∂A/∂P_i) ((j·N) × N), on the stack for N ≤ 16.
+fn phi_psi(a: MatRef<'_, f64>, da: &[MatRef<'_, f64>], h: f64) -> Result<(Mat<f64>, Mat<f64>), ExpmError> {
+    macro_rules! fixed {
+        ($($n:literal)*) => {
+            match a.nrows() {
+                $($n => phi_psi_in::<Fixed<$n>>(a, da, h),)*
+                _ => phi_psi_in::<Mat<f64>>(a, da, h),
+            }
+        };
+    }
+    fixed!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
+}
+
+/// [`phi_psi`] in the storage `M`.
+fn phi_psi_in<M: Square>(
+    a: MatRef<'_, f64>,
+    da: &[MatRef<'_, f64>],
+    h: f64,
+) -> Result<(Mat<f64>, Mat<f64>), ExpmError> {
+    let n = a.nrows();
+    let mut ah = M::from_ref(a);
+    ah.scale(h);
+    let work = Frechet::new(&ah)?;
+    let mut phi = Mat::zeros(n, n);
+    work.exp().write_to(phi.as_mut());
+    let mut psi = Mat::zeros(da.len() * n, n);
+    for (i, d) in da.iter().enumerate() {
+        if d.norm_max() == 0.0 {
+            continue; // L(Ah, 0) = 0: e.g. a parameter that only enters x(0)
+        }
+        let mut dh = M::from_ref(*d);
+        dh.scale(h);
+        work.derivative(&dh)?.write_to(psi.as_mut().submatrix_mut(i * n, 0, n, n));
+    }
+    Ok((phi, psi))
+}
 
 /// Outputs and output sensitivities of a free decay at K samples.
 ///
@@ -96,23 +135,13 @@ impl SensitivityPropagator {
             check::shape("da", *d, n, n)?;
             check::finite("da", *d)?;
         }
-        let ah = a.to_owned() * faer::Scale(h);
-        let work = ExpmFrechet::new(ah.as_ref())?;
-        let mut psi = Mat::zeros(da.len() * n, n);
-        for (i, d) in da.iter().enumerate() {
-            if d.norm_max() == 0.0 {
-                continue; // L(Ah, 0) = 0: e.g. a parameter that only enters x(0)
-            }
-            let dh = d.to_owned() * faer::Scale(h);
-            let l = work.derivative(dh.as_ref())?;
-            psi.as_mut().submatrix_mut(i * n, 0, n, n).copy_from(&l);
-        }
+        let (phi, psi) = phi_psi(a, da, h)?;
         Ok(Self {
             n_states: n,
             n_params: da.len(),
             n_outputs: c.nrows(),
             h,
-            phi: work.exp().to_owned(),
+            phi,
             psi,
             c: c.to_owned(),
             dc: None,

@@ -100,7 +100,8 @@ fn householder_qr(s: MatRef<'_, f64>, r: &[f64]) -> (Mat<f64>, Vec<f64>, Vec<f64
             norm = faer::ColRef::from_slice(column).norm_l2();
         }
         let d = if norm > 0.0 { norm } else { 1.0 };
-        column.iter_mut().for_each(|v| *v /= d);
+        let inverse = 1.0 / d;
+        column.iter_mut().for_each(|v| *v *= inverse);
         scale.push(d);
     }
     let mut b = r.to_vec();

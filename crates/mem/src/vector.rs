@@ -1,23 +1,17 @@
 //! Reductions over long vectors (residuals and sensitivity columns have K·p entries).
 //!
 //! A plain `iter().sum()` is one dependent chain of additions — bound by the adder's latency,
-//! because floating-point addition may not be reassociated. Eight independent partial sums let
-//! the compiler use SIMD lanes and keep the adders busy; the result differs from the sequential
-//! sum only by rounding.
+//! because floating-point addition may not be reassociated. faer's inner product keeps several
+//! SIMD partial sums and is compiled for the machine's instruction set at run time; the result
+//! differs from the sequential sum only by rounding.
 
-/// Σ aᵢ bᵢ with eight partial sums.
+use faer::linalg::matmul::dot::inner_prod;
+use faer::{ColRef, Conj, RowRef};
+
+/// Σ aᵢ bᵢ.
 pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     assert_eq!(a.len(), b.len(), "dot of vectors of different lengths");
-    let (a_chunks, a_tail) = a.as_chunks::<8>();
-    let (b_chunks, b_tail) = b.as_chunks::<8>();
-    let mut partial = [0.0; 8];
-    for (x, y) in a_chunks.iter().zip(b_chunks) {
-        for l in 0..8 {
-            partial[l] += x[l] * y[l];
-        }
-    }
-    let tail: f64 = a_tail.iter().zip(b_tail).map(|(x, y)| x * y).sum();
-    partial.iter().sum::<f64>() + tail
+    inner_prod(RowRef::from_slice(a), Conj::No, ColRef::from_slice(b), Conj::No)
 }
 
 /// Σ aᵢ².
