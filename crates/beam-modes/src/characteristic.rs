@@ -51,9 +51,72 @@ pub(crate) fn brent(f: impl Fn(f64) -> f64, lower: f64, upper: f64) -> Option<f6
     find_root_brent(lower, upper, &f, &mut Bracket).ok()
 }
 
+/// Newton's method safeguarded by bisection (Press et al., *Numerical Recipes*, `rtsafe`) on
+/// a bracket with one sign change; `f` returns the value and the derivative. A Newton step
+/// that would leave the bracket, or that does not halve the step before last, is replaced by
+/// bisection, so the iteration never diverges and converges quadratically near the root.
+/// Converged when the step is a few ulps of the root.
+pub(crate) fn safeguarded_newton(f: impl Fn(f64) -> (f64, f64), lower: f64, upper: f64) -> Option<f64> {
+    let (f_lower, f_upper) = (f(lower).0, f(upper).0);
+    if f_lower == 0.0 {
+        return Some(lower);
+    }
+    if f_upper == 0.0 {
+        return Some(upper);
+    }
+    if f_lower * f_upper > 0.0 || !(f_lower.is_finite() && f_upper.is_finite()) {
+        return None;
+    }
+    // `negative` and `positive` are the bracket's ends where f < 0 and f > 0.
+    let (mut negative, mut positive) = if f_lower < 0.0 { (lower, upper) } else { (upper, lower) };
+    let mut x = 0.5 * (lower + upper);
+    let mut step_before = (upper - lower).abs();
+    let mut step = step_before;
+    let (mut fx, mut slope) = f(x);
+    for _ in 0..200 {
+        let leaves_bracket = ((x - positive) * slope - fx) * ((x - negative) * slope - fx) > 0.0;
+        if leaves_bracket || (2.0 * fx).abs() > (step_before * slope).abs() {
+            step_before = step;
+            step = 0.5 * (positive - negative);
+            x = negative + step;
+        } else {
+            step_before = step;
+            step = fx / slope;
+            x -= step;
+        }
+        if step.abs() <= 4.0 * f64::EPSILON * x.abs() + f64::MIN_POSITIVE {
+            return Some(x);
+        }
+        (fx, slope) = f(x);
+        if fx == 0.0 {
+            return Some(x);
+        }
+        if !fx.is_finite() {
+            return None;
+        }
+        if fx < 0.0 {
+            negative = x;
+        } else {
+            positive = x;
+        }
+    }
+    None
+}
+
+/// Roots below this index are computed once per process and kept (they are constants).
+const TABULATED: usize = 64;
+
 /// The j-th positive root of the pinned-free equation tan λ = tanh λ (j ≥ 1), in
 /// (jπ, jπ + π/2); `pinned_free_root(0)` is the rigid-body root 0.
 pub fn pinned_free_root(j: usize) -> f64 {
+    static TABLE: std::sync::OnceLock<Vec<f64>> = std::sync::OnceLock::new();
+    match TABLE.get_or_init(|| (0..TABULATED).map(solve_pinned_free).collect()).get(j) {
+        Some(root) => *root,
+        None => solve_pinned_free(j),
+    }
+}
+
+fn solve_pinned_free(j: usize) -> f64 {
     if j == 0 {
         return 0.0;
     }
@@ -65,6 +128,14 @@ pub fn pinned_free_root(j: usize) -> f64 {
 /// The j-th root (j ≥ 1) of the clamped-free equation 1 + cos λ cosh λ = 0, in ((j−1)π, jπ).
 pub fn clamped_free_root(j: usize) -> f64 {
     assert!(j >= 1, "clamped-free roots are numbered from 1");
+    static TABLE: std::sync::OnceLock<Vec<f64>> = std::sync::OnceLock::new();
+    match TABLE.get_or_init(|| (1..TABULATED).map(solve_clamped_free).collect()).get(j - 1) {
+        Some(root) => *root,
+        None => solve_clamped_free(j),
+    }
+}
+
+fn solve_clamped_free(j: usize) -> f64 {
     let pi = std::f64::consts::PI;
     let f = |l: f64| sech(l) + l.cos();
     brent(f, (j - 1) as f64 * pi, j as f64 * pi).expect("bracket holds a sign change")

@@ -1,6 +1,8 @@
 //! Mass-normalised mode shapes and the quantities the slewing plant needs.
 
-use crate::characteristic::{SERIES_LIMIT, brent, characteristic, clamped_free_root, pinned_free_root};
+use crate::characteristic::{
+    SERIES_LIMIT, characteristic, clamped_free_root, pinned_free_root, safeguarded_newton,
+};
 use crate::krylov::krylov;
 use crate::{Beam, BeamError};
 use num_dual::{Dual64, DualNum};
@@ -109,7 +111,7 @@ fn coefficients<D: DualNum<Primitive = f64> + Copy>(lambda: D, kappa: D) -> Shap
 /// The first `n_modes` modes, in increasing frequency. With k = 0 the first is the rigid
 /// rotation about the root (λ = 0, ω = 0).
 ///
-/// Roots are bracketed and found in `f64` by Brent's method, then lifted to the scalar type D
+/// Roots are bracketed and found in `f64` by Newton's method safeguarded by bisection, then lifted to the scalar type D
 /// by one Newton step of the implicit function theorem,
 /// λ = λ₀ − Δ(λ₀, κ)/∂_λΔ(λ₀, κ₀), whose dual part is −∂_κΔ·κ̇/∂_λΔ: the exact derivative of
 /// the root, without differentiating through the iterations.
@@ -136,7 +138,11 @@ pub fn modes<D: DualNum<Primitive = f64> + Copy>(
             let lambda0 = if kappa0 == 0.0 {
                 lower
             } else {
-                brent(|l| characteristic(l, kappa0), lower, upper).ok_or(BeamError::RootNotFound {
+                let value_and_slope = |l: f64| {
+                    let d = characteristic(Dual64::new(l, 1.0), Dual64::from(kappa0));
+                    (d.re, d.eps)
+                };
+                safeguarded_newton(value_and_slope, lower, upper).ok_or(BeamError::RootNotFound {
                     mode: i,
                     lower,
                     upper,
