@@ -2,7 +2,7 @@
 
 use crate::evaluate::evaluate;
 use crate::fit::Termination;
-use crate::solve::StepSolver;
+use crate::solve::{StepSolver, tall_svd};
 use crate::{Experiment, MemError};
 use faer::{Mat, MatRef};
 
@@ -172,11 +172,9 @@ pub(crate) fn identifiability(
         .map(|c| if p[c] != 0.0 { p[c].abs() } else { s.col(c).norm_l2().recip().min(1e300) })
         .collect();
     let scaled = Mat::from_fn(s.nrows(), j, |i, c| s[(i, c)] * scale[c]);
-    let svd = scaled.thin_svd().map_err(|_| MemError::Svd)?;
-    let sv: Vec<f64> = (0..j).map(|i| svd.S()[i]).collect();
+    let (sv, v) = tall_svd(scaled.as_ref())?;
     let max = sv.first().copied().unwrap_or(0.0);
     let relative: Vec<f64> = sv.iter().map(|x| if max > 0.0 { x / max } else { 0.0 }).collect();
-    let v = svd.V();
     let undetermined = (0..j)
         .filter(|&i| relative[i] < threshold)
         .map(|i| {
