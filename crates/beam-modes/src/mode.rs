@@ -135,26 +135,47 @@ pub fn modes<D: DualNum<Primitive = f64> + Copy>(
                 return Ok(rigid_mode(beam));
             }
             let (lower, upper) = (pinned_free_root(i - 1), clamped_free_root(i));
-            let lambda0 = if kappa0 == 0.0 {
-                lower
-            } else {
-                let value_and_slope = |l: f64| {
-                    let d = characteristic(Dual64::new(l, 1.0), Dual64::from(kappa0));
-                    (d.re, d.eps)
-                };
-                safeguarded_newton(value_and_slope, lower, upper).ok_or(BeamError::RootNotFound {
-                    mode: i,
-                    lower,
-                    upper,
-                    kappa: kappa0,
-                })?
-            };
+            let lambda0 = if kappa0 == 0.0 { lower } else { flexible_root(i, kappa0, lower, upper)? };
             let slope = characteristic(Dual64::new(lambda0, 1.0), Dual64::from(kappa0)).eps;
             let lambda = D::from(lambda0) - characteristic(D::from(lambda0), kappa) / slope;
             Ok(flexible_mode(beam, lambda, kappa))
         })
         .collect()
 }
+
+/// Root λ_i(κ) in f64, remembered per thread for the last [`REMEMBERED_ROOTS`] (i, κ): a fit
+/// of parameters that do not change κ (and a linearization, which evaluates the modes once in
+/// f64 and once per parameter in dual numbers) asks for the same roots again and again. The
+/// answer is the same as recomputing it, bit for bit.
+fn flexible_root(i: usize, kappa0: f64, lower: f64, upper: f64) -> Result<f64, BeamError> {
+    thread_local! {
+        static ROOTS: std::cell::RefCell<Vec<(usize, u64, f64)>> = const { std::cell::RefCell::new(Vec::new()) };
+    }
+    let key = (i, kappa0.to_bits());
+    if let Some(root) = ROOTS.with_borrow(|r| r.iter().find(|e| (e.0, e.1) == key).map(|e| e.2)) {
+        return Ok(root);
+    }
+    let value_and_slope = |l: f64| {
+        let d = characteristic(Dual64::new(l, 1.0), Dual64::from(kappa0));
+        (d.re, d.eps)
+    };
+    let root = safeguarded_newton(value_and_slope, lower, upper).ok_or(BeamError::RootNotFound {
+        mode: i,
+        lower,
+        upper,
+        kappa: kappa0,
+    })?;
+    ROOTS.with_borrow_mut(|r| {
+        if r.len() >= REMEMBERED_ROOTS {
+            r.remove(0);
+        }
+        r.push((key.0, key.1, root));
+    });
+    Ok(root)
+}
+
+/// How many (mode, κ) roots each thread remembers.
+const REMEMBERED_ROOTS: usize = 64;
 
 fn rigid_mode<D: DualNum<Primitive = f64> + Copy>(beam: &Beam<D>) -> Mode<D> {
     let (l, rho, a) = (beam.length, beam.mass_per_length, beam.hub_radius);
