@@ -5,7 +5,7 @@ use crate::WorkflowError;
 use crate::fitting::{FitOutcome, FitRequest, align, fit};
 use crate::localise::{Localisation, localise};
 use crate::quantization;
-use crate::stats::{bic, ljung_box};
+use crate::stats::{ar1_innovations, delta_bic, ljung_box};
 use mem::Measurement;
 use plant::{Effect, ModeKind, ParamId, Sensor, SlewingModel};
 use rayon::prelude::*;
@@ -189,6 +189,15 @@ fn same_target(a: &Effect, b: &Effect) -> bool {
     }
 }
 
+/// Per output, the innovation sum of squares of the weighted residual under an AR(1) error
+/// model (see [`ar1_innovations`]): what the per-output likelihood of [`delta_bic`] compares.
+fn channel_errors(data: &Measurement, outcome: &FitOutcome) -> Vec<f64> {
+    let r = outcome.residual(data);
+    (0..r.ncols())
+        .map(|o| ar1_innovations(&(0..r.nrows()).map(|k| outcome.weights[o] * r[(k, o)]).collect::<Vec<_>>()))
+        .collect()
+}
+
 fn whiteness(data: &Measurement, outcome: &FitOutcome) -> f64 {
     let r = outcome.residual(data);
     (0..r.ncols())
@@ -210,10 +219,8 @@ pub fn diagnose(
     let request = FitRequest::new(&free);
     let baseline = fit(model, &data, &request)?;
     let localisation = localise(&data, &baseline);
-    let m = baseline.report.n_residuals;
-    let k_base = free.len();
     let base_error = *baseline.report.error_history.last().expect("history");
-    let base_bic = bic(base_error, m, k_base);
+    let base_channels = channel_errors(&data, &baseline);
     let wanted = |kind: &str| options.only.is_empty() || options.only.iter().any(|o| o == kind);
     let start = &baseline.fitted;
     let mut candidates: Vec<Candidate> = trials(start, &localisation)
@@ -239,7 +246,12 @@ pub fn diagnose(
             match attempt() {
                 Ok((fitted, outcome)) => {
                     let error = *outcome.report.error_history.last().expect("history");
-                    let delta_bic = bic(error, m, k_base + params.len()) - base_bic;
+                    let delta_bic = delta_bic(
+                        &channel_errors(&data, &outcome),
+                        &base_channels,
+                        data.n_samples(),
+                        params.len(),
+                    );
                     let parameters = params
                         .iter()
                         .map(|p| {
@@ -276,7 +288,7 @@ pub fn diagnose(
         .collect();
     let mut localisation = localisation;
     if wanted("sensor_quantization") {
-        let found = quantization_candidates(start, &data, &baseline, m, k_base, base_bic, base_error);
+        let found = quantization_candidates(start, &data, &options.free, &base_channels, base_error);
         for c in &found {
             if let Some(p) = c.parameters.first() {
                 localisation.findings.push(format!(
@@ -290,9 +302,22 @@ pub fn diagnose(
         candidates.extend(found);
     }
     candidates.sort_by(|a, b| b.score.total_cmp(&a.score));
-    let chosen =
-        candidates.first().filter(|c| c.failure.is_none() && c.delta_bic < -options.bic_threshold).map(|_| 0);
+    let chosen = candidates
+        .iter()
+        .position(|c| c.failure.is_none() && c.delta_bic < -options.bic_threshold && strength_is_resolved(c));
     Ok(Diagnosis { baseline, localisation, candidates, chosen })
+}
+
+/// Parameters whose value 0 means "no effect": the effect is named only if the fit tells its
+/// strength from zero (|value| > 2 standard errors). Otherwise a candidate could win on a
+/// change of the error that its own uncertainty cannot distinguish from no change.
+const STRENGTHS: [&str; 5] = ["coulomb_torque", "drag_hub", "delay", "extra_mode_coupling", "offset_"];
+
+fn strength_is_resolved(c: &Candidate) -> bool {
+    c.parameters
+        .iter()
+        .filter(|p| STRENGTHS.iter().any(|s| p.name.starts_with(s)))
+        .all(|p| p.value.abs() > 2.0 * p.std_error)
 }
 
 fn failed(effect: String, label: String, why: String) -> Candidate {
@@ -311,15 +336,16 @@ fn failed(effect: String, label: String, why: String) -> Candidate {
     }
 }
 
-/// Quantization is not differentiable: it is detected as a lattice in the measured samples, and
-/// scored by quantizing the baseline's output on that lattice (no refit).
+/// Quantization is detected as a lattice in the measured samples; the model is then refitted
+/// with that sensor quantized, which makes its readings intervals [y − Δ/2, y + Δ/2] and its
+/// residual the distance of the model's output to them (`mem::Experiment::with_quantization`).
+/// Δ comes from the lattice, not from the fit, so the candidate is only tried where the data
+/// prove the quantizer (2nR² > 40).
 fn quantization_candidates(
     start: &SlewingModel,
     data: &Measurement,
-    baseline: &FitOutcome,
-    m: usize,
-    k_base: usize,
-    base_bic: f64,
+    free: &[String],
+    base_channels: &[f64],
     base_error: f64,
 ) -> Vec<Candidate> {
     let sensors: Vec<Sensor> = start.sensors().to_vec();
@@ -331,24 +357,24 @@ fn quantization_candidates(
         let values: Vec<f64> = (0..data.n_samples()).map(|k| data.values()[(k, o)]).collect();
         let range = values.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let Some(lattice) = quantization::detect(&values, 1e-4 * range, 40.0) else { continue };
-        let mut quantized = baseline.final_outputs.clone();
-        for k in 0..quantized.nrows() {
-            quantized[(k, o)] = lattice.step * (quantized[(k, o)] / lattice.step).round();
-        }
-        let error: f64 = (0..data.n_samples())
-            .map(|k| {
-                (0..data.n_outputs())
-                    .map(|j| (baseline.weights[j] * (data.values()[(k, j)] - quantized[(k, j)])).powi(2))
-                    .sum::<f64>()
-            })
-            .sum();
-        let mut model = baseline.fitted.clone();
         let label = format!("sensor_quantization({})", sensor.output_name());
-        if let Err(e) = model.add_effect(Effect::SensorQuantization { sensor: *sensor, step: lattice.step }) {
-            out.push(failed("sensor_quantization".into(), label, e.to_string()));
-            continue;
-        }
-        let delta_bic = bic(error, m, k_base + 1) - base_bic;
+        let attempt = || -> Result<FitOutcome, WorkflowError> {
+            let mut model = start.clone();
+            model.add_effect(Effect::SensorQuantization { sensor: *sensor, step: lattice.step })?;
+            let refs: Vec<&str> = free.iter().map(|s| s.as_str()).collect();
+            let mut request = FitRequest::new(&refs);
+            request.max_iterations = 60;
+            fit(&model, data, &request)
+        };
+        let outcome = match attempt() {
+            Ok(outcome) => outcome,
+            Err(e) => {
+                out.push(failed("sensor_quantization".into(), label, e.to_string()));
+                continue;
+            }
+        };
+        let error = *outcome.report.error_history.last().expect("history");
+        let delta_bic = delta_bic(&channel_errors(data, &outcome), base_channels, data.n_samples(), 1);
         out.push(Candidate {
             effect: "sensor_quantization".into(),
             label,
@@ -356,15 +382,15 @@ fn quantization_candidates(
             reduction: 1.0 - error / base_error,
             delta_bic,
             score: -delta_bic,
-            whiteness_p: f64::NAN,
+            whiteness_p: whiteness(data, &outcome),
             parameters: vec![EffectParameter {
                 name: format!("quantization_step_{}", sensor.output_name()),
                 value: lattice.step,
                 std_error: lattice.std_error,
             }],
             failure: None,
-            model: Some(model),
-            outcome: None,
+            model: Some(outcome.fitted.clone()),
+            outcome: Some(outcome),
         });
     }
     out

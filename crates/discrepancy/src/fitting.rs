@@ -3,7 +3,7 @@
 use crate::WorkflowError;
 use faer::Mat;
 use mem::{Experiment, Fit, FitReport, Measurement, ResponseModel, Safeguard};
-use nonlinear::{NonlinearResponse, simulate_model};
+use nonlinear::{NonlinearResponse, simulate_model, simulate_sensors};
 use plant::SlewingModel;
 use slewing::SlewingFitModel;
 
@@ -46,16 +46,26 @@ pub struct FitOutcome {
     pub fitted: SlewingModel,
     /// Outputs of the initial model at the data's samples (K × p).
     pub initial_outputs: Mat<f64>,
-    /// Outputs of the fitted model (K × p).
+    /// Outputs of the fitted model (K × p), quantized where the model's sensors are.
     pub final_outputs: Mat<f64>,
+    /// The continuous quantities the fitted model's sensors read (K × p), before quantization.
+    pub final_sensed: Mat<f64>,
+    /// Half the quantization step per output (0 for a continuous sensor).
+    pub half_widths: Vec<f64>,
     /// Output weights used.
     pub weights: Vec<f64>,
 }
 
 impl FitOutcome {
-    /// Unweighted residual measured − fitted (K × p).
+    /// Unweighted residual measured − fitted (K × p). On a quantized output a reading y is the
+    /// interval [y − Δ/2, y + Δ/2], and the residual is the distance of the model's continuous
+    /// output to it — what the fit minimised (`mem::Experiment::with_quantization`).
     pub fn residual(&self, data: &Measurement) -> Mat<f64> {
-        data.values() - &self.final_outputs
+        Mat::from_fn(data.n_samples(), data.n_outputs(), |k, o| {
+            let r = data.values()[(k, o)] - self.final_sensed[(k, o)];
+            let half_width = self.half_widths[o];
+            r - r.clamp(-half_width, half_width)
+        })
     }
 }
 
@@ -122,6 +132,8 @@ pub fn fit(
     } else {
         Experiment::new(response.as_ref(), &data)
     };
+    let quantization = model.quantization();
+    let experiment = experiment.with_quantization(&quantization);
     let weights = experiment.weights.clone();
     let report = Fit::new()
         .with_bounds(adapter.bounds())?
@@ -133,5 +145,16 @@ pub fn fit(
     let fitted = adapter.model_at(&report.parameters)?;
     let initial_outputs = simulate_model(model, data.interval(), data.n_samples())?;
     let final_outputs = simulate_model(&fitted, data.interval(), data.n_samples())?;
-    Ok(FitOutcome { report, initial: model.clone(), fitted, initial_outputs, final_outputs, weights })
+    let final_sensed = simulate_sensors(&fitted, data.interval(), data.n_samples())?;
+    let half_widths = quantization.iter().map(|s| s.map_or(0.0, |d| 0.5 * d)).collect();
+    Ok(FitOutcome {
+        report,
+        initial: model.clone(),
+        fitted,
+        initial_outputs,
+        final_outputs,
+        final_sensed,
+        half_widths,
+        weights,
+    })
 }

@@ -11,13 +11,17 @@
 //!    decrement against amplitude), whether it holds a mode the model lacks (ERA on the residual);
 //! 3. refits with each **candidate effect** of the catalog (`plant::Effect`; starting values from
 //!    the data and the localisation), in parallel;
-//! 4. **scores** each by its error and the Bayesian information criterion with the noise
-//!    variance estimated from the fit, ΔBIC = m ln(‖E_c‖²/‖E_b‖²) + Δk ln m, and names the effect
-//!    with the lowest ΔBIC if it is below −10 (very strong evidence), else `"none"`;
+//! 4. **scores** each by its error and the Bayesian information criterion with one Gaussian
+//!    AR(1) error process per output, its innovation variance estimated from the fit,
+//!    ΔBIC = Σ_o K ln(U_o,c/U_o,b) + Δk ln m ([`stats::delta_bic`], [`stats::ar1_innovations`]),
+//!    and names the effect with the lowest ΔBIC if it is below −10 (very strong evidence) and
+//!    its strength is resolved from zero (|value| > 2σ), else `"none"`;
 //! 5. returns the augmented model, which can be diagnosed again for the next effect.
 //!
 //! Sensor quantization is not differentiable: it is found as a lattice in the samples
-//! ([`quantization`]) and scored by quantizing the baseline's output.
+//! ([`quantization`]); the model is then refitted with that sensor's readings as intervals
+//! [y − Δ/2, y + Δ/2] (`mem::Experiment::with_quantization`), so that the model is charged only
+//! for leaving a reading's interval, not for the quantizer's rounding.
 
 pub mod diagnose;
 pub mod fitting;

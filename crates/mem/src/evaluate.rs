@@ -43,12 +43,14 @@ pub(crate) fn evaluate(experiments: &[Experiment<'_>], p: &[f64]) -> Result<Eval
         residual.resize(row + k * n_out, 0.0);
         let rows = &mut residual[row..];
         for o in 0..n_out {
-            let w = e.weights[o];
+            let (w, half_width) = (e.weights[o], e.half_widths[o]);
             let meas = measured.col(o).try_as_col_major().expect("an owned Mat is column-major").as_slice();
             let model =
                 out.outputs.col(o).try_as_col_major().expect("an owned Mat is column-major").as_slice();
             for (chunk, (m, y)) in rows.chunks_exact_mut(n_out).zip(meas.iter().zip(model)) {
-                chunk[o] = w * (m - y);
+                let r = m - y;
+                // Interval readings: the distance to [y − Δ/2, y + Δ/2] (0 inside).
+                chunk[o] = w * (r - r.clamp(-half_width, half_width));
             }
         }
         // Weighted sensitivities, column by column on contiguous slices.
@@ -60,9 +62,14 @@ pub(crate) fn evaluate(experiments: &[Experiment<'_>], p: &[f64]) -> Result<Eval
                 .try_as_col_major_mut()
                 .expect("an owned Mat is column-major")
                 .as_slice_mut();
-            for (d, v) in dst[row..row + k * n_out].chunks_exact_mut(n_out).zip(src.chunks_exact(n_out)) {
-                for ((d, v), w) in d.iter_mut().zip(v).zip(&e.weights) {
-                    *d = w * v;
+            let rows = residual[row..row + k * n_out].chunks_exact(n_out);
+            for ((d, v), r) in
+                dst[row..row + k * n_out].chunks_exact_mut(n_out).zip(src.chunks_exact(n_out)).zip(rows)
+            {
+                for (o, (d, v)) in d.iter_mut().zip(v).enumerate() {
+                    // Inside a reading's interval the residual is flat in P.
+                    let flat = e.half_widths[o] > 0.0 && r[o] == 0.0;
+                    *d = if flat { 0.0 } else { e.weights[o] * v };
                 }
             }
         }

@@ -96,17 +96,32 @@ pub struct Experiment<'a> {
     pub data: &'a Measurement,
     /// Weight per output (residuals are multiplied by it); see [`Measurement::rms_weights`].
     pub weights: Vec<f64>,
+    /// Half-width of the reading's interval per output (0: an exact reading); see
+    /// [`Experiment::with_quantization`].
+    pub half_widths: Vec<f64>,
 }
 
 impl<'a> Experiment<'a> {
     /// An experiment with unit weights (the paper's Eq. 22 error).
     pub fn new(model: &'a (dyn ResponseModel + Sync), data: &'a Measurement) -> Self {
-        Self { model, data, weights: vec![1.0; data.n_outputs()] }
+        Self { model, data, weights: vec![1.0; data.n_outputs()], half_widths: vec![0.0; data.n_outputs()] }
     }
 
     /// Uses weights 1/RMS(measured output), so outputs of different units count alike.
     pub fn normalized(model: &'a (dyn ResponseModel + Sync), data: &'a Measurement) -> Self {
-        Self { model, data, weights: data.rms_weights() }
+        Self { model, data, weights: data.rms_weights(), half_widths: vec![0.0; data.n_outputs()] }
+    }
+
+    /// Declares quantized outputs: `steps[o] = Some(Δ)` means output o was read by a quantizer
+    /// of step Δ, so a reading y only says that the value lies in [y − Δ/2, y + Δ/2]. Its
+    /// residual is then the distance from the model's output to that interval,
+    /// r = sign(y − ŷ)·max(0, |y − ŷ| − Δ/2) — interval-censored least squares — and rows
+    /// inside the interval carry no sensitivity. A model that is right to within the step is
+    /// not charged for the quantizer's rounding; a continuous residual would be, by Δ²/12 per
+    /// sample however good the model.
+    pub fn with_quantization(mut self, steps: &[Option<f64>]) -> Self {
+        self.half_widths = steps.iter().map(|s| s.map_or(0.0, |d| 0.5 * d)).collect();
+        self
     }
 
     /// Checks that model, data and weights fit together.
@@ -129,6 +144,13 @@ impl<'a> Experiment<'a> {
         {
             return Err(MemError::Shape(format!(
                 "experiment {index}: need one finite weight ≥ 0 per output"
+            )));
+        }
+        if self.half_widths.len() != self.data.n_outputs()
+            || self.half_widths.iter().any(|w| !(w.is_finite() && *w >= 0.0))
+        {
+            return Err(MemError::Shape(format!(
+                "experiment {index}: need one finite quantization step ≥ 0 per output"
             )));
         }
         Ok(())

@@ -19,4 +19,4 @@ mod response;
 mod simulate;
 
 pub use response::{NonlinearError, NonlinearResponse};
-pub use simulate::{simulate, simulate_model};
+pub use simulate::{simulate, simulate_model, simulate_sensors};

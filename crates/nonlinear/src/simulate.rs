@@ -12,6 +12,23 @@ use plant::SlewingModel;
 /// # Errors
 /// Plant or solver failures.
 pub fn simulate_model(model: &SlewingModel, h: f64, n_samples: usize) -> Result<Mat<f64>, NonlinearError> {
+    let mut y = simulate_sensors(model, h, n_samples)?;
+    for (o, step) in model.quantization().into_iter().enumerate() {
+        if let Some(step) = step {
+            for k in 0..y.nrows() {
+                y[(k, o)] = step * (y[(k, o)] / step).round();
+            }
+        }
+    }
+    Ok(y)
+}
+
+/// As [`simulate_model`] without the sensors' quantization: the continuous quantities the
+/// sensors read.
+///
+/// # Errors
+/// Plant or solver failures.
+pub fn simulate_sensors(model: &SlewingModel, h: f64, n_samples: usize) -> Result<Mat<f64>, NonlinearError> {
     let mut out = Response::zeros(n_samples, model.sensors().len(), 0);
     if model.is_linear() {
         let ss = model.state_space()?;
@@ -21,15 +38,7 @@ pub fn simulate_model(model: &SlewingModel, h: f64, n_samples: usize) -> Result<
     } else {
         NonlinearResponse::new(model.clone(), &[])?.simulate(&[], h, &mut out)?;
     }
-    let mut y = out.outputs;
-    for (o, step) in model.quantization().into_iter().enumerate() {
-        if let Some(step) = step {
-            for k in 0..y.nrows() {
-                y[(k, o)] = step * (y[(k, o)] / step).round();
-            }
-        }
-    }
-    Ok(y)
+    Ok(out.outputs)
 }
 
 /// As [`simulate_model`], for a model given as RON text.

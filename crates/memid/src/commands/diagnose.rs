@@ -114,9 +114,10 @@ pub fn diagnosis_table(d: &Diagnosis) -> String {
         d.baseline_error(),
         d.augmented_error(),
         100.0 * (1.0 - d.augmented_error() / d.baseline_error()),
-        d.chosen.map_or("none (no candidate passes ΔBIC < −threshold)".to_string(), |i| d.candidates[i]
-            .label
-            .clone())
+        d.chosen.map_or(
+            "none (no candidate passes ΔBIC < −threshold with its strength resolved from zero)".to_string(),
+            |i| d.candidates[i].label.clone()
+        )
     );
     out
 }
