@@ -22,14 +22,55 @@ impl<const N: usize> Fixed<N> {
     #[inline(always)]
     fn add_product_kernel(&mut self, a: &Self, b: &Self) {
         for j in 0..N {
-            let mut column = self.0[j];
-            for l in 0..N {
-                let blj = b.0[j][l];
-                for i in 0..N {
-                    column[i] = a.0[l][i].mul_add(blj, column[i]);
+            self.0[j] = mat_vec_add(&a.0, &b.0[j], self.0[j]);
+        }
+    }
+
+    #[inline(always)]
+    fn lu_kernel(&self) -> FixedLu<N> {
+        let mut lu = self.0;
+        let mut swaps = [0; N];
+        for k in 0..N {
+            let pivot = (k..N).fold(k, |best, r| if lu[k][r].abs() > lu[k][best].abs() { r } else { best });
+            swaps[k] = pivot;
+            if pivot != k {
+                for column in lu.iter_mut() {
+                    column.swap(k, pivot);
                 }
             }
-            self.0[j] = column;
+            let diagonal = lu[k][k];
+            for r in k + 1..N {
+                lu[k][r] /= diagonal;
+            }
+            for c in k + 1..N {
+                let factor = lu[c][k];
+                for r in k + 1..N {
+                    lu[c][r] -= lu[k][r] * factor;
+                }
+            }
+        }
+        FixedLu { lu, swaps }
+    }
+    #[inline(always)]
+    fn solve_kernel(lu: &FixedLu<N>, rhs: &mut Self) {
+        for column in rhs.0.iter_mut() {
+            for k in 0..N {
+                column.swap(k, lu.swaps[k]);
+            }
+            // L y = b (unit lower), then U x = y.
+            for k in 0..N {
+                let yk = column[k];
+                for r in k + 1..N {
+                    column[r] -= lu.lu[k][r] * yk;
+                }
+            }
+            for k in (0..N).rev() {
+                column[k] /= lu.lu[k][k];
+                let xk = column[k];
+                for r in 0..k {
+                    column[r] -= lu.lu[k][r] * xk;
+                }
+            }
         }
     }
 
@@ -50,6 +91,26 @@ impl<const N: usize> Fixed<N> {
     }
 }
 
+/// acc + M v for a column-major N×N matrix (`m[l]` is column l), accumulated in two independent
+/// chains (even and odd columns) that are added at the end: half the dependent multiply–adds.
+/// Written so that each column operation is one SIMD multiply–add with a broadcast scalar.
+#[inline(always)]
+pub(crate) fn mat_vec_add<const N: usize>(m: &[[f64; N]; N], v: &[f64; N], acc: [f64; N]) -> [f64; N] {
+    let mut even = acc;
+    let mut odd = [0.0; N];
+    for l in (0..N).step_by(2) {
+        for r in 0..N {
+            even[r] = m[l][r].mul_add(v[l], even[r]);
+        }
+        if l + 1 < N {
+            for r in 0..N {
+                odd[r] = m[l + 1][r].mul_add(v[l + 1], odd[r]);
+            }
+        }
+    }
+    std::array::from_fn(|r| even[r] + odd[r])
+}
+
 /// out ← out + a·b as a pulp operation (a closure would not be inlined into the dispatched
 /// function, and its `mul_add` would become a library call).
 struct AddProduct<'a, const N: usize> {
@@ -63,6 +124,31 @@ impl<const N: usize> pulp::WithSimd for AddProduct<'_, N> {
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
         self.out.add_product_kernel(self.a, self.b);
+    }
+}
+
+/// LU factors as a pulp operation.
+struct Factor<'a, const N: usize>(&'a Fixed<N>);
+
+impl<const N: usize> pulp::WithSimd for Factor<'_, N> {
+    type Output = FixedLu<N>;
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> FixedLu<N> {
+        self.0.lu_kernel()
+    }
+}
+
+/// Forward and back substitution as a pulp operation.
+struct Substitute<'a, const N: usize> {
+    lu: &'a FixedLu<N>,
+    rhs: &'a mut Fixed<N>,
+}
+
+impl<const N: usize> pulp::WithSimd for Substitute<'_, N> {
+    type Output = ();
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        Fixed::solve_kernel(self.lu, self.rhs);
     }
 }
 
@@ -134,49 +220,10 @@ impl<const N: usize> Square for Fixed<N> {
         self.0.iter().flatten().all(|v| v.is_finite())
     }
     fn lu(&self) -> Self::Lu {
-        let mut lu = self.0;
-        let mut swaps = [0; N];
-        for k in 0..N {
-            let pivot = (k..N).fold(k, |best, r| if lu[k][r].abs() > lu[k][best].abs() { r } else { best });
-            swaps[k] = pivot;
-            if pivot != k {
-                for column in lu.iter_mut() {
-                    column.swap(k, pivot);
-                }
-            }
-            let diagonal = lu[k][k];
-            for r in k + 1..N {
-                lu[k][r] /= diagonal;
-            }
-            for c in k + 1..N {
-                let factor = lu[c][k];
-                for r in k + 1..N {
-                    lu[c][r] -= lu[k][r] * factor;
-                }
-            }
-        }
-        FixedLu { lu, swaps }
+        pulp::Arch::new().dispatch(Factor(self))
     }
     fn solve_in_place(lu: &Self::Lu, rhs: &mut Self) {
-        for column in rhs.0.iter_mut() {
-            for k in 0..N {
-                column.swap(k, lu.swaps[k]);
-            }
-            // L y = b (unit lower), then U x = y.
-            for k in 0..N {
-                let yk = column[k];
-                for r in k + 1..N {
-                    column[r] -= lu.lu[k][r] * yk;
-                }
-            }
-            for k in (0..N).rev() {
-                column[k] /= lu.lu[k][k];
-                let xk = column[k];
-                for r in 0..k {
-                    column[r] -= lu.lu[k][r] * xk;
-                }
-            }
-        }
+        pulp::Arch::new().dispatch(Substitute { lu, rhs });
     }
 }
 

@@ -1,6 +1,6 @@
 //! The discrete-time MEM sensitivity propagator (paper Eq. 9 at a constant sample interval).
 
-use crate::fixed::Fixed;
+use crate::fixed::{Fixed, mat_vec_add};
 use crate::frechet::Frechet;
 use crate::square::Square;
 use crate::{ExpmError, check};
@@ -302,21 +302,26 @@ impl SensitivityPropagator {
         // dc[i][g]: the quads of ∂C/∂P_i.
         let dc: Option<Vec<Vec<[[f64; QUAD]; N]>>> =
             self.dc.as_ref().map(|d| (0..j).map(|i| quads(d.as_ref(), i * p)).collect());
-        let mut x: [f64; N] = std::array::from_fn(|r| x0[r]);
-        let mut sens: Vec<[f64; N]> = (0..j).map(|i| std::array::from_fn(|r| s0[(r, i)])).collect();
+        // block[0] = x, block[1 + i] = s_i: all j + 1 columns live in memory, so the output
+        // products read them with broadcast loads (a state held in a register was unpacked
+        // lane by lane into scalar code).
+        let mut block: Vec<[f64; N]> = std::iter::once(std::array::from_fn(|r| x0[r]))
+            .chain((0..j).map(|i| std::array::from_fn(|r| s0[(r, i)])))
+            .collect();
         let k_samples = out.outputs.nrows();
         let mut columns = Columns::new(out);
         for k in 0..k_samples {
+            let (x, sens) = block.split_first().expect("x is the first column");
             for (g, cg) in c.iter().enumerate() {
                 let rows = g * QUAD..(g * QUAD + QUAD).min(p);
-                let y = quad_product(cg, &x, [0.0; QUAD]);
+                let y = quad_product(cg, x, [0.0; QUAD]);
                 for o in rows.clone() {
                     columns.outputs[o][k] = y[o - g * QUAD];
                 }
                 for (i, s) in sens.iter().enumerate() {
                     let mut yi = quad_product(cg, s, [0.0; QUAD]);
                     if let Some(dc) = &dc {
-                        yi = quad_product(&dc[i][g], &x, yi);
+                        yi = quad_product(&dc[i][g], x, yi);
                     }
                     for o in rows.clone() {
                         columns.sensitivities[i][k * p + o] = yi[o - g * QUAD];
@@ -326,11 +331,12 @@ impl SensitivityPropagator {
             if k + 1 == k_samples {
                 break;
             }
+            let (x, sens) = block.split_first_mut().expect("x is the first column");
             for (s, psi_i) in sens.iter_mut().zip(&psi) {
                 // Ψᵢx first: it does not wait for sᵢ, so only Φsᵢ is on the critical path.
-                *s = mat_vec_add(&phi, s, mat_vec_add(psi_i, &x, [0.0; N]));
+                *s = mat_vec_add(&phi, s, mat_vec_add(psi_i, x, [0.0; N]));
             }
-            x = mat_vec_add(&phi, &x, [0.0; N]);
+            *x = mat_vec_add(&phi, x, [0.0; N]);
         }
     }
 
@@ -549,25 +555,6 @@ impl GroupState {
             Par::Seq,
         );
     }
-}
-
-/// acc + M v for a column-major N×N matrix (`m[l]` is column l), accumulated in two independent
-/// chains (even and odd columns) that are added at the end: half the dependent multiply–adds.
-#[inline(always)]
-fn mat_vec_add<const N: usize>(m: &[[f64; N]; N], v: &[f64; N], acc: [f64; N]) -> [f64; N] {
-    let mut even = acc;
-    let mut odd = [0.0; N];
-    for l in (0..N).step_by(2) {
-        for r in 0..N {
-            even[r] = m[l][r].mul_add(v[l], even[r]);
-        }
-        if l + 1 < N {
-            for r in 0..N {
-                odd[r] = m[l + 1][r].mul_add(v[l + 1], odd[r]);
-            }
-        }
-    }
-    std::array::from_fn(|r| even[r] + odd[r])
 }
 
 /// acc + C_g v for one group of four output rows (`cg[l]` holds column l of the group).
