@@ -27,6 +27,28 @@ fn main() {
         time("gauss_newton_step", 100000, || {
             std::hint::black_box(mem::gauss_newton_step(&experiments, &fam.p_nominal, 1e-10).unwrap());
         });
+        use mem::LinearModel;
+        time("  linearize", 100000, || {
+            std::hint::black_box(fam.linearize(&fam.p_nominal).unwrap());
+        });
+        let lin = fam.linearize(&fam.p_nominal).unwrap();
+        let das: Vec<_> = lin.da.iter().map(|d| d.as_ref()).collect();
+        time("  free_decay (new response)", 100000, || {
+            let mut out = expm::Response::zeros(size.samples, size.outputs, size.params);
+            expm::free_decay(
+                lin.a.as_ref(),
+                &das,
+                lin.c.as_ref(),
+                None,
+                &lin.x0,
+                None,
+                h,
+                &mut out,
+                expm::Strategy::Auto,
+            )
+            .unwrap();
+            std::hint::black_box(&out);
+        });
         return;
     }
     if std::env::args().any(|a| a == "--fit-only") {

@@ -15,6 +15,32 @@ pub(crate) struct Evaluation {
     pub cost: f64,
 }
 
+/// Multiplies interleaved rows (k, o) — entry k·p + o — by `weights[o]`: eight rows at a time
+/// against the weights repeated eight times, so that the loop vectorizes for any p ≤ 8.
+fn scale_rows(values: &mut [f64], weights: &[f64]) {
+    const ROWS: usize = 8;
+    let p = weights.len();
+    if p == 0 {
+        return;
+    }
+    if p > ROWS {
+        for row in values.chunks_exact_mut(p) {
+            row.iter_mut().zip(weights).for_each(|(v, w)| *v *= w);
+        }
+        return;
+    }
+    let mut pattern = [0.0; ROWS * ROWS];
+    for (t, v) in pattern[..ROWS * p].iter_mut().enumerate() {
+        *v = weights[t % p];
+    }
+    let pattern = &pattern[..ROWS * p];
+    let mut blocks = values.chunks_exact_mut(ROWS * p);
+    for block in &mut blocks {
+        block.iter_mut().zip(pattern).for_each(|(v, w)| *v *= w);
+    }
+    blocks.into_remainder().iter_mut().zip(pattern).for_each(|(v, w)| *v *= w);
+}
+
 /// Simulates every experiment at P (in parallel when there are several).
 pub(crate) fn evaluate(experiments: &[Experiment<'_>], p: &[f64]) -> Result<Evaluation, MemError> {
     let n_rows: usize = experiments.iter().map(|e| e.data.n_samples() * e.data.n_outputs()).sum();
@@ -44,16 +70,17 @@ pub(crate) fn evaluate(experiments: &[Experiment<'_>], p: &[f64]) -> Result<Eval
         residual.resize(row + k * n_out, 0.0);
         let rows = &mut residual[row..];
         for o in 0..n_out {
-            let (w, half_width) = (e.weights[o], e.half_widths[o]);
+            let half_width = e.half_widths[o];
             let meas = measured.col(o).try_as_col_major().expect("an owned Mat is column-major").as_slice();
             let model =
                 out.outputs.col(o).try_as_col_major().expect("an owned Mat is column-major").as_slice();
             for (chunk, (m, y)) in rows.chunks_exact_mut(n_out).zip(meas.iter().zip(model)) {
                 let r = m - y;
                 // Interval readings: the distance to [y − Δ/2, y + Δ/2] (0 inside).
-                chunk[o] = w * (r - r.clamp(-half_width, half_width));
+                chunk[o] = r - r.clamp(-half_width, half_width);
             }
         }
+        scale_rows(&mut rows[..k * n_out], &e.weights);
         // Weighted sensitivities, in place, column by column on contiguous slices.
         let rows = &residual[row..row + k * n_out];
         let intervals = e.half_widths.iter().any(|h| *h > 0.0);
@@ -61,13 +88,17 @@ pub(crate) fn evaluate(experiments: &[Experiment<'_>], p: &[f64]) -> Result<Eval
             let column =
                 out.sensitivities.col_mut(i).try_as_col_major_mut().expect("an owned Mat is column-major");
             let column = column.as_slice_mut();
-            for (d, r) in column.chunks_exact_mut(n_out).zip(rows.chunks_exact(n_out)) {
-                for (o, d) in d.iter_mut().enumerate() {
-                    // Inside a reading's interval the residual is flat in P.
-                    let flat = intervals && e.half_widths[o] > 0.0 && r[o] == 0.0;
-                    *d = if flat { 0.0 } else { e.weights[o] * *d };
+            if intervals {
+                // Inside a reading's interval the residual is flat in P.
+                for (d, r) in column.chunks_exact_mut(n_out).zip(rows.chunks_exact(n_out)) {
+                    for ((d, r), h) in d.iter_mut().zip(r).zip(&e.half_widths) {
+                        if *h > 0.0 && *r == 0.0 {
+                            *d = 0.0;
+                        }
+                    }
                 }
             }
+            scale_rows(column, &e.weights);
             if let Some(stacked) = stacked.as_mut() {
                 stacked.col_mut(i).subrows_mut(row, k * n_out).copy_from(out.sensitivities.col(i));
             }

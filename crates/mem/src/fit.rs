@@ -56,7 +56,7 @@ pub fn gauss_newton_step(
     rank_cutoff: f64,
 ) -> Result<GaussNewtonStep, MemError> {
     let e = evaluate(experiments, p)?;
-    let solver = StepSolver::new(e.sensitivity.as_ref(), &e.residual, rank_cutoff)?;
+    let solver = StepSolver::from_owned(e.sensitivity, &e.residual, rank_cutoff)?;
     let (delta, _) = solver.step(0.0);
     Ok(GaussNewtonStep {
         delta,

@@ -29,18 +29,21 @@ pub(crate) struct StepSolver {
 
 impl StepSolver {
     pub fn new(s: MatRef<'_, f64>, r: &[f64], rank_cutoff: f64) -> Result<Self, MemError> {
+        Self::from_owned(s.to_owned(), r, rank_cutoff)
+    }
+
+    /// As [`Self::new`], decomposing S in place (no copy when the caller no longer needs S).
+    pub fn from_owned(s: Mat<f64>, r: &[f64], rank_cutoff: f64) -> Result<Self, MemError> {
         let j = s.ncols();
         if s.nrows() < j {
             return Err(MemError::Shape(format!("{} residuals cannot determine {j} parameters", s.nrows())));
         }
         let (r_factor, qtr, scale) = householder_qr(s, r);
-        let svd = r_factor.thin_svd().map_err(|_| MemError::Svd)?;
-        let sv: Vec<f64> = (0..j).map(|i| svd.S()[i]).collect();
-        let u = svd.U();
+        let (sv, u, v) = square_svd(r_factor.as_ref())?;
         let utr: Vec<f64> = (0..j).map(|c| (0..j).map(|i| u[(i, c)] * qtr[i]).sum()).collect();
         let threshold = rank_cutoff * sv.first().copied().unwrap_or(0.0);
         let rank = sv.iter().filter(|x| **x > threshold && **x > 0.0).count();
-        Ok(Self { scale, singular_values: sv, v: svd.V().to_owned(), utr, rank })
+        Ok(Self { scale, singular_values: sv, v, utr, rank })
     }
 
     /// The step for damping μ, and the decrease of ‖r − Sδ‖² it predicts.
@@ -87,26 +90,55 @@ pub(crate) fn tall_svd(s: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>), MemEr
     if s.nrows() < j {
         return Err(MemError::Shape(format!("{} rows cannot determine {j} parameters", s.nrows())));
     }
-    let (r_scaled, _, scale) = householder_qr(s, &vec![0.0; s.nrows()]);
+    let (r_scaled, _, scale) = householder_qr(s.to_owned(), &vec![0.0; s.nrows()]);
     let r_factor = Mat::from_fn(j, j, |i, c| r_scaled[(i, c)] * scale[c]);
-    let svd = r_factor.thin_svd().map_err(|_| MemError::Svd)?;
-    Ok(((0..j).map(|i| svd.S()[i]).collect(), svd.V().to_owned()))
+    let (sv, _, v) = square_svd(r_factor.as_ref())?;
+    Ok((sv, v))
+}
+
+/// faer's SVD of the small j × j factor R: singular values (descending), U and V. Sequential,
+/// with its workspace sized by faer: for j ≪ m the thread-pool dispatch of `Mat::thin_svd`
+/// costs more than the decomposition.
+fn square_svd(r: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>, Mat<f64>), MemError> {
+    use faer::linalg::svd::{ComputeSvdVectors, svd, svd_scratch};
+    let j = r.nrows();
+    let mut s = faer::diag::Diag::<f64>::zeros(j);
+    let mut u = Mat::<f64>::zeros(j, j);
+    let mut v = Mat::<f64>::zeros(j, j);
+    let scratch = svd_scratch::<f64>(
+        j,
+        j,
+        ComputeSvdVectors::Thin,
+        ComputeSvdVectors::Thin,
+        faer::Par::Seq,
+        Default::default(),
+    );
+    let mut buffer = faer::dyn_stack::MemBuffer::new(scratch);
+    svd(
+        r,
+        s.as_mut(),
+        Some(u.as_mut()),
+        Some(v.as_mut()),
+        faer::Par::Seq,
+        faer::dyn_stack::MemStack::new(&mut buffer),
+        Default::default(),
+    )
+    .map_err(|_| MemError::Svd)?;
+    Ok(((0..j).map(|i| s[i]).collect(), u, v))
 }
 
 /// Column scales D (the column norms, 1 for a zero column) and the Householder QR of
-/// S·D⁻¹ (m × j, m ≥ j): returns R (j × j, upper triangular), the first j entries of Qᵀ r and D.
-/// Works on a column-major copy; O(m j²).
-fn householder_qr(s: MatRef<'_, f64>, r: &[f64]) -> (Mat<f64>, Vec<f64>, Vec<f64>) {
+/// S·D⁻¹ (m × j, m ≥ j), overwriting S: returns R (j × j, upper triangular), the first j
+/// entries of Qᵀ r and D. O(m j²).
+fn householder_qr(mut s: Mat<f64>, r: &[f64]) -> (Mat<f64>, Vec<f64>, Vec<f64>) {
     let (m, j) = (s.nrows(), s.ncols());
-    let mut a: Vec<f64> = Vec::with_capacity(m * j);
+    let mut columns: Vec<&mut [f64]> = s
+        .as_mut()
+        .col_iter_mut()
+        .map(|c| c.try_as_col_major_mut().expect("an owned Mat is column-major").as_slice_mut())
+        .collect();
     let mut scale = Vec::with_capacity(j);
-    for c in 0..j {
-        let start = a.len();
-        match s.col(c).try_as_col_major() {
-            Some(col) => a.extend_from_slice(col.as_slice()),
-            None => a.extend((0..m).map(|i| s[(i, c)])),
-        }
-        let column = &mut a[start..];
+    for column in columns.iter_mut() {
         let mut norm = sum_squares(column).sqrt();
         if !norm.is_finite() {
             // Entries beyond 1e154 overflow the plain sum of squares; faer's norm rescales.
@@ -120,8 +152,8 @@ fn householder_qr(s: MatRef<'_, f64>, r: &[f64]) -> (Mat<f64>, Vec<f64>, Vec<f64
     let mut b = r.to_vec();
     let mut diag = vec![0.0; j];
     for k in 0..j.min(m) {
-        let (head, tail) = a.split_at_mut((k + 1) * m);
-        let col = &mut head[k * m..];
+        let (head, tail) = columns.split_at_mut(k + 1);
+        let col = &mut head[k];
         let norm = sum_squares(&col[k..]).sqrt();
         if norm == 0.0 {
             diag[k] = 0.0;
@@ -135,8 +167,8 @@ fn householder_qr(s: MatRef<'_, f64>, r: &[f64]) -> (Mat<f64>, Vec<f64>, Vec<f64
             let f = 2.0 * dot(&col[k..], &target[k..]) / vnorm2;
             subtract_scaled(&mut target[k..], f, &col[k..]);
         };
-        for c in 0..(j - k - 1) {
-            apply(&mut tail[c * m..(c + 1) * m]);
+        for target in tail.iter_mut() {
+            apply(target);
         }
         apply(&mut b);
     }
@@ -144,7 +176,7 @@ fn householder_qr(s: MatRef<'_, f64>, r: &[f64]) -> (Mat<f64>, Vec<f64>, Vec<f64
         if i == c {
             diag[c]
         } else if i < c {
-            a[c * m + i]
+            columns[c][i]
         } else {
             0.0
         }
