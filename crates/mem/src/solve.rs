@@ -39,7 +39,7 @@ impl StepSolver {
             return Err(MemError::Shape(format!("{} residuals cannot determine {j} parameters", s.nrows())));
         }
         let (r_factor, qtr, scale) = householder_qr(s, r);
-        let (sv, u, v) = square_svd(r_factor.as_ref())?;
+        let SquareSvd { singular_values: sv, u, v } = square_svd(r_factor.as_ref())?;
         let utr: Vec<f64> = (0..j).map(|c| (0..j).map(|i| u[(i, c)] * qtr[i]).sum()).collect();
         let threshold = rank_cutoff * sv.first().copied().unwrap_or(0.0);
         let rank = sv.iter().filter(|x| **x > threshold && **x > 0.0).count();
@@ -92,14 +92,14 @@ pub(crate) fn tall_svd(s: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>), MemEr
     }
     let (r_scaled, _, scale) = householder_qr(s.to_owned(), &vec![0.0; s.nrows()]);
     let r_factor = Mat::from_fn(j, j, |i, c| r_scaled[(i, c)] * scale[c]);
-    let (sv, _, v) = square_svd(r_factor.as_ref())?;
-    Ok((sv, v))
+    let svd = square_svd(r_factor.as_ref())?;
+    Ok((svd.singular_values, svd.v))
 }
 
 /// faer's SVD of the small j × j factor R: singular values (descending), U and V. Sequential,
 /// with its workspace sized by faer: for j ≪ m the thread-pool dispatch of `Mat::thin_svd`
 /// costs more than the decomposition.
-fn square_svd(r: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>, Mat<f64>), MemError> {
+fn square_svd(r: MatRef<'_, f64>) -> Result<SquareSvd, MemError> {
     use faer::linalg::svd::{ComputeSvdVectors, svd, svd_scratch};
     let j = r.nrows();
     let mut s = faer::diag::Diag::<f64>::zeros(j);
@@ -124,7 +124,14 @@ fn square_svd(r: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>, Mat<f64>), MemE
         Default::default(),
     )
     .map_err(|_| MemError::Svd)?;
-    Ok(((0..j).map(|i| s[i]).collect(), u, v))
+    Ok(SquareSvd { singular_values: (0..j).map(|i| s[i]).collect(), u, v })
+}
+
+/// Singular values (descending), U and V of a small square matrix.
+struct SquareSvd {
+    singular_values: Vec<f64>,
+    u: Mat<f64>,
+    v: Mat<f64>,
 }
 
 /// Column scales D (the column norms, 1 for a zero column) and the Householder QR of
