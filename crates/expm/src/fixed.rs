@@ -74,6 +74,18 @@ impl<const N: usize> Fixed<N> {
         }
     }
 
+    /// max(1ᵀ|A|ᵖ): the row vector vᵀ ← vᵀ|A| is |A|ᵀv, a matrix–vector product with the
+    /// columns of |A|ᵀ (the rows of |A|).
+    #[inline(always)]
+    fn abs_power_norm_kernel(&self, p: usize) -> f64 {
+        let rows: [[f64; N]; N] = std::array::from_fn(|i| std::array::from_fn(|j| self.0[j][i].abs()));
+        let mut v = [1.0; N];
+        for _ in 0..p {
+            v = mat_vec_add(&rows, &v, [0.0; N]);
+        }
+        v.into_iter().fold(0.0, f64::max)
+    }
+
     #[inline(always)]
     fn combination_kernel(terms: &[(f64, &Self)]) -> Self {
         let mut out = Fixed([[0.0; N]; N]);
@@ -91,19 +103,23 @@ impl<const N: usize> Fixed<N> {
     }
 }
 
-/// acc + M v for a column-major N×N matrix (`m[l]` is column l), accumulated in two independent
+/// acc + M v for a column-major R×N matrix (`m[l]` is column l), accumulated in two independent
 /// chains (even and odd columns) that are added at the end: half the dependent multiply–adds.
 /// Written so that each column operation is one SIMD multiply–add with a broadcast scalar.
 #[inline(always)]
-pub(crate) fn mat_vec_add<const N: usize>(m: &[[f64; N]; N], v: &[f64; N], acc: [f64; N]) -> [f64; N] {
+pub(crate) fn mat_vec_add<const R: usize, const N: usize>(
+    m: &[[f64; R]; N],
+    v: &[f64; N],
+    acc: [f64; R],
+) -> [f64; R] {
     let mut even = acc;
-    let mut odd = [0.0; N];
+    let mut odd = [0.0; R];
     for l in (0..N).step_by(2) {
-        for r in 0..N {
+        for r in 0..R {
             even[r] = m[l][r].mul_add(v[l], even[r]);
         }
         if l + 1 < N {
-            for r in 0..N {
+            for r in 0..R {
                 odd[r] = m[l + 1][r].mul_add(v[l + 1], odd[r]);
             }
         }
@@ -149,6 +165,20 @@ impl<const N: usize> pulp::WithSimd for Substitute<'_, N> {
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
         Fixed::solve_kernel(self.lu, self.rhs);
+    }
+}
+
+/// ‖ |A|ᵖ ‖₁ as a pulp operation.
+struct AbsPowerNorm<'a, const N: usize> {
+    matrix: &'a Fixed<N>,
+    power: usize,
+}
+
+impl<const N: usize> pulp::WithSimd for AbsPowerNorm<'_, N> {
+    type Output = f64;
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> f64 {
+        self.matrix.abs_power_norm_kernel(self.power)
     }
 }
 
@@ -202,12 +232,7 @@ impl<const N: usize> Square for Fixed<N> {
         self.0.iter().map(|c| c.iter().map(|v| v.abs()).sum::<f64>()).fold(0.0, f64::max)
     }
     fn abs_power_norm1(&self, p: usize) -> f64 {
-        let abs: [[f64; N]; N] = std::array::from_fn(|j| std::array::from_fn(|i| self.0[j][i].abs()));
-        let mut v = [1.0; N];
-        for _ in 0..p {
-            v = std::array::from_fn(|j| (0..N).map(|i| v[i] * abs[j][i]).sum());
-        }
-        v.into_iter().fold(0.0, f64::max)
+        pulp::Arch::new().dispatch(AbsPowerNorm { matrix: self, power: p })
     }
     fn product_norm1(factors: &[&Self]) -> f64 {
         let mut product = factors[0].product(factors[1]);

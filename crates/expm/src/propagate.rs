@@ -314,14 +314,14 @@ impl SensitivityPropagator {
             let (x, sens) = block.split_first().expect("x is the first column");
             for (g, cg) in c.iter().enumerate() {
                 let rows = g * QUAD..(g * QUAD + QUAD).min(p);
-                let y = quad_product(cg, x, [0.0; QUAD]);
+                let y = mat_vec_add(cg, x, [0.0; QUAD]);
                 for o in rows.clone() {
                     columns.outputs[o][k] = y[o - g * QUAD];
                 }
                 for (i, s) in sens.iter().enumerate() {
-                    let mut yi = quad_product(cg, s, [0.0; QUAD]);
+                    let mut yi = mat_vec_add(cg, s, [0.0; QUAD]);
                     if let Some(dc) = &dc {
-                        yi = quad_product(&dc[i][g], x, yi);
+                        yi = mat_vec_add(&dc[i][g], x, yi);
                     }
                     for o in rows.clone() {
                         columns.sensitivities[i][k * p + o] = yi[o - g * QUAD];
@@ -555,18 +555,6 @@ impl GroupState {
             Par::Seq,
         );
     }
-}
-
-/// acc + C_g v for one group of four output rows (`cg[l]` holds column l of the group).
-#[inline(always)]
-fn quad_product<const N: usize>(cg: &[[f64; QUAD]; N], v: &[f64; N], acc: [f64; QUAD]) -> [f64; QUAD] {
-    let mut y = acc;
-    for l in 0..N {
-        for r in 0..QUAD {
-            y[r] = cg[l][r].mul_add(v[l], y[r]);
-        }
-    }
-    y
 }
 
 /// The columns of a [`Response`] as mutable slices, for writing one sample at a time.

@@ -167,8 +167,9 @@ fn householder_qr(mut s: Mat<f64>, r: &[f64]) -> (Mat<f64>, Vec<f64>, Vec<f64>) 
             continue;
         }
         let alpha = if col[k] > 0.0 { -norm } else { norm };
+        // ‖x − αe₁‖² = 2‖x‖(‖x‖ + |x₁|) with α = −sign(x₁)‖x‖: no cancellation, no extra pass.
+        let vnorm2 = 2.0 * norm * (norm + col[k].abs());
         col[k] -= alpha; // v = x − αe₁, stored in place
-        let vnorm2 = sum_squares(&col[k..]);
         diag[k] = alpha;
         let apply = |target: &mut [f64]| {
             let f = 2.0 * dot(&col[k..], &target[k..]) / vnorm2;
