@@ -56,8 +56,20 @@ fn main() {
         FontStyle::Normal,
         include_bytes!("../../crates/memid/assets/DejaVuSans.ttf"),
     );
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/performance-scaling.svg");
-    let root = SVGBackend::new(&path, (900, 560)).into_drawing_area();
+    let docs = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs");
+    let svg = docs.join("performance-scaling.svg");
+    draw(SVGBackend::new(&svg, (900, 560)).into_drawing_area(), &series);
+    println!("wrote {}", svg.display());
+    let png = docs.join("performance-scaling.png");
+    draw(BitMapBackend::new(&png, (900, 560)).into_drawing_area(), &series);
+    println!("wrote {}", png.display());
+}
+
+/// The log–log chart of every series, on any plotters backend.
+fn draw<B: DrawingBackend>(root: DrawingArea<B, plotters::coord::Shift>, series: &[(String, Vec<(f64, f64)>)])
+where
+    B::ErrorType: 'static,
+{
     root.fill(&WHITE).unwrap();
     let mut chart = ChartBuilder::on(&root)
         .caption("Time against the number of states N (this machine, 2 cores)", ("sans-serif", 20))
@@ -91,5 +103,4 @@ fn main() {
         .draw()
         .unwrap();
     root.present().unwrap();
-    println!("wrote {}", path.display());
 }

@@ -625,8 +625,8 @@ pub enum Method {
 }
 
 /// From this many states on, `Strategy::Auto` tries the modal form (the measured crossover,
-/// docs/performance.md).
-pub const MODAL_MIN_STATES: usize = 16;
+/// docs/performance.md: up to 16 states the fixed-size propagation is faster).
+pub const MODAL_MIN_STATES: usize = 17;
 
 /// Outputs and output sensitivities of ẋ = Ax, y = Cx from x(0) at t_k = k·h (the size of
 /// `out` sets K): the MEM's Eq. 9 by the propagator, or — for larger, diagonalisable and
