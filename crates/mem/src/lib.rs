@@ -29,6 +29,10 @@
 //! * **Weights**: each output's residual is multiplied by a weight w_o (e.g. 1/RMS), so E and S
 //!   become W E and W S; unit weights give Eq. 22 exactly.
 //! * **Several experiments** with shared P: their E and S are stacked row-wise.
+//! * **Quantized readings** ([`Experiment::with_quantization`]): a reading y of a quantizer with
+//!   step Δ is the interval [y − Δ/2, y + Δ/2]; its residual is the model output's distance to
+//!   it, sign(e)·max(0, |e| − Δ/2), and its row of S is zero inside (interval-censored least
+//!   squares), so the model is not charged for the quantizer's rounding.
 //! * **Unknown initial states**: a model may give ∂x(0)/∂P; the sensitivity recursion then starts
 //!   from s(0) = ∂x(0)/∂P instead of Eq. 10's zero, and for x(0) itself as a parameter the
 //!   sensitivity is exactly C e^{At} e_i.
