@@ -25,6 +25,9 @@
 //!   x_{k+1} = Φ x_k,  s_{i,k+1} = Φ s_{i,k} + Ψ_i x_k,  y_k = C x_k,  ∂y_k/∂P_i = C s_{i,k}
 //!   (paper Eqs. 7–10).  One exponential serves every sample; the state and all j
 //!   sensitivities advance together as one N×(j+1) block per step.
+//!   For N ≤ 16 the propagator computes Φ and Ψ_i with the same Padé/Fréchet code on stack
+//!   matrices of compile-time order (`Square` storage; no heap allocation per intermediate),
+//!   and runs the recursion with the order fixed at compile time under run-time SIMD dispatch.
 //!
 //! * **Modal coordinates** ([`free_decay`] with [`Strategy::Auto`], from
 //!   [`MODAL_MIN_STATES`] states on): with A = VΛV⁻¹, the Fréchet derivative in modal
