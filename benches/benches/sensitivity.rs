@@ -86,16 +86,9 @@ fn bench_iteration(c: &mut Criterion) {
 }
 
 fn bench_paper_fit(c: &mut Criterion) {
-    // A whole fit of the paper's problem from the fixture's initial values: C_v and K_p of the
-    // slewing plant to the fixture's 12.8 Hz potentiometer signal (400-sample class).
-    let text = plant::PAPER_MODEL_RON
-        .replace("outputs: [Potentiometer, Tachometer, StrainGauge]", "outputs: [Potentiometer]");
-    let position = plant::SlewingModel::from_ron(&text, "position").unwrap();
-    let adapter = slewing::SlewingFitModel::new(position, &["cv", "kp"]).unwrap();
-    let p0 = adapter.values();
-    let model = adapter.response();
-    let data = test_problems::simulate_measurement(&model, &[0.15, 6.8], 1.0 / 12.8, 385, 0.01, 5);
-    let experiments = [mem::Experiment::new(&model, &data)];
+    let problem = memid_benches::paper_fit();
+    let experiments = [mem::Experiment::new(&problem.model, &problem.data)];
+    let p0 = problem.p0.clone();
     c.bench_function("fit/paper", |b| b.iter(|| mem::Fit::new().run(black_box(&experiments), &p0).unwrap()));
 }
 

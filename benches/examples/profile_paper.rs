@@ -52,14 +52,7 @@ fn main() {
         return;
     }
     if std::env::args().any(|a| a == "--fit-only") {
-        // The `fit/paper` bench's problem.
-        let text = plant::PAPER_MODEL_RON
-            .replace("outputs: [Potentiometer, Tachometer, StrainGauge]", "outputs: [Potentiometer]");
-        let position = plant::SlewingModel::from_ron(&text, "position").unwrap();
-        let adapter = slewing::SlewingFitModel::new(position, &["cv", "kp"]).unwrap();
-        let p0 = adapter.values();
-        let model = adapter.clone().response();
-        let data = test_problems::simulate_measurement(&model, &[0.15, 6.8], h, 385, 0.01, 5);
+        let memid_benches::PaperFit { adapter, model, data, p0 } = memid_benches::paper_fit();
         let experiments = [mem::Experiment::new(&model, &data)];
         let report = mem::Fit::new().run(&experiments, &p0).unwrap();
         println!("{} iterations, {:?}", report.iterations, report.termination);

@@ -31,6 +31,32 @@ pub fn family(size: Size) -> ModalFamily {
     ModalFamily::new(size.modes, size.params, size.outputs, 2026)
 }
 
+/// The `fit/paper` problem: C_v and K_p of the paper's slewing plant (potentiometer only) from
+/// the fixture's initial values, against 385 samples at 12.8 Hz simulated at C_v = 0.15,
+/// K_p = 6.8 with 1 % noise (seed 5).
+pub struct PaperFit {
+    /// The plant with its free parameters.
+    pub adapter: slewing::SlewingFitModel,
+    /// The MEM model.
+    pub model: mem::LinearResponse<slewing::SlewingFitModel>,
+    /// The simulated measurement.
+    pub data: mem::Measurement,
+    /// The starting values.
+    pub p0: Vec<f64>,
+}
+
+/// Builds [`PaperFit`].
+pub fn paper_fit() -> PaperFit {
+    let text = plant::PAPER_MODEL_RON
+        .replace("outputs: [Potentiometer, Tachometer, StrainGauge]", "outputs: [Potentiometer]");
+    let position = plant::SlewingModel::from_ron(&text, "position").expect("the embedded model parses");
+    let adapter = slewing::SlewingFitModel::new(position, &["cv", "kp"]).expect("cv and kp exist");
+    let p0 = adapter.values();
+    let model = adapter.clone().response();
+    let data = test_problems::simulate_measurement(&model, &[0.15, 6.8], 1.0 / 12.8, 385, 0.01, 5);
+    PaperFit { adapter, model, data, p0 }
+}
+
 /// Flops of one straightforward MEM iteration at a size, counting a multiply-add as 2:
 /// the exponential and j Fréchet derivatives (≈ (6 + s) N³ for e^A plus ≈ (13 + 2s) N³ per
 /// direction with s ≈ 3 squarings at h = 1/12.8 s for these spectra), the propagation

@@ -6,6 +6,7 @@ use crate::fitting::{FitOutcome, FitRequest, align, fit};
 use crate::localise::{Localisation, localise};
 use crate::quantization;
 use crate::stats::{ar1_innovations, delta_bic, ljung_box};
+use faer::Mat;
 use mem::Measurement;
 use plant::{Effect, ModeKind, ParamId, Sensor, SlewingModel};
 use rayon::prelude::*;
@@ -191,18 +192,62 @@ fn same_target(a: &Effect, b: &Effect) -> bool {
 
 /// Per output, the innovation sum of squares of the weighted residual under an AR(1) error
 /// model (see [`ar1_innovations`]): what the per-output likelihood of [`delta_bic`] compares.
-fn channel_errors(data: &Measurement, outcome: &FitOutcome) -> Vec<f64> {
-    let r = outcome.residual(data);
-    (0..r.ncols())
-        .map(|o| ar1_innovations(&(0..r.nrows()).map(|k| outcome.weights[o] * r[(k, o)]).collect::<Vec<_>>()))
+fn channel_errors(residual: &Mat<f64>, weights: &[f64]) -> Vec<f64> {
+    (0..residual.ncols())
+        .map(|o| {
+            ar1_innovations(&(0..residual.nrows()).map(|k| weights[o] * residual[(k, o)]).collect::<Vec<_>>())
+        })
         .collect()
 }
 
-fn whiteness(data: &Measurement, outcome: &FitOutcome) -> f64 {
-    let r = outcome.residual(data);
-    (0..r.ncols())
-        .map(|o| ljung_box(&(0..r.nrows()).map(|k| r[(k, o)]).collect::<Vec<_>>(), 20).1)
+/// The smallest Ljung–Box p-value over the outputs.
+fn whiteness(residual: &Mat<f64>) -> f64 {
+    (0..residual.ncols())
+        .map(|o| ljung_box(&(0..residual.nrows()).map(|k| residual[(k, o)]).collect::<Vec<_>>(), 20).1)
         .fold(1.0, f64::min)
+}
+
+/// What every candidate is scored against.
+struct Reference<'a> {
+    data: &'a Measurement,
+    /// The baseline's ‖Y_error‖.
+    error: f64,
+    /// The baseline's [`channel_errors`].
+    channels: Vec<f64>,
+}
+
+impl Reference<'_> {
+    /// A refitted candidate with its effect's parameters, scored: error, ΔBIC with one added
+    /// parameter per effect parameter, whiteness.
+    fn score(
+        &self,
+        effect: String,
+        label: String,
+        outcome: FitOutcome,
+        parameters: Vec<EffectParameter>,
+    ) -> Candidate {
+        let error = *outcome.report.error_history.last().expect("history");
+        let residual = outcome.residual(self.data);
+        let delta_bic = delta_bic(
+            &channel_errors(&residual, &outcome.weights),
+            &self.channels,
+            self.data.n_samples(),
+            parameters.len(),
+        );
+        Candidate {
+            effect,
+            label,
+            error,
+            reduction: 1.0 - error / self.error,
+            delta_bic,
+            score: -delta_bic,
+            whiteness_p: whiteness(&residual),
+            parameters,
+            failure: None,
+            model: Some(outcome.fitted.clone()),
+            outcome: Some(outcome),
+        }
+    }
 }
 
 /// Runs the workflow.
@@ -219,8 +264,11 @@ pub fn diagnose(
     let request = FitRequest::new(&free);
     let baseline = fit(model, &data, &request)?;
     let localisation = localise(&data, &baseline);
-    let base_error = *baseline.report.error_history.last().expect("history");
-    let base_channels = channel_errors(&data, &baseline);
+    let reference = Reference {
+        data: &data,
+        error: *baseline.report.error_history.last().expect("history"),
+        channels: channel_errors(&baseline.residual(&data), &baseline.weights),
+    };
     let wanted = |kind: &str| options.only.is_empty() || options.only.iter().any(|o| o == kind);
     let start = &baseline.fitted;
     let mut candidates: Vec<Candidate> = trials(start, &localisation)
@@ -229,7 +277,7 @@ pub fn diagnose(
         .map(|trial| {
             let kind = trial.effect.kind().to_string();
             let params: Vec<ParamId> = ParamId::of_effect(&trial.effect);
-            let attempt = || -> Result<(SlewingModel, FitOutcome), WorkflowError> {
+            let attempt = || -> Result<FitOutcome, WorkflowError> {
                 let mut augmented = start.clone();
                 augmented.add_effect(trial.effect.clone())?;
                 for (id, b) in &trial.bounds {
@@ -240,18 +288,10 @@ pub fn diagnose(
                 let refs: Vec<&str> = names.iter().map(|s| s.as_str()).collect();
                 let mut request = FitRequest::new(&refs);
                 request.max_iterations = 60;
-                let outcome = fit(&augmented, &data, &request)?;
-                Ok((outcome.fitted.clone(), outcome))
+                fit(&augmented, &data, &request)
             };
             match attempt() {
-                Ok((fitted, outcome)) => {
-                    let error = *outcome.report.error_history.last().expect("history");
-                    let delta_bic = delta_bic(
-                        &channel_errors(&data, &outcome),
-                        &base_channels,
-                        data.n_samples(),
-                        params.len(),
-                    );
+                Ok(outcome) => {
                     let parameters = params
                         .iter()
                         .map(|p| {
@@ -268,19 +308,7 @@ pub fn diagnose(
                             }
                         })
                         .collect();
-                    Candidate {
-                        effect: kind,
-                        label: trial.label,
-                        error,
-                        reduction: 1.0 - error / base_error,
-                        delta_bic,
-                        score: -delta_bic,
-                        whiteness_p: whiteness(&data, &outcome),
-                        parameters,
-                        failure: None,
-                        model: Some(fitted),
-                        outcome: Some(outcome),
-                    }
+                    reference.score(kind, trial.label, outcome, parameters)
                 }
                 Err(e) => failed(kind, trial.label, e.to_string()),
             }
@@ -288,7 +316,7 @@ pub fn diagnose(
         .collect();
     let mut localisation = localisation;
     if wanted("sensor_quantization") {
-        let found = quantization_candidates(start, &data, &options.free, &base_channels, base_error);
+        let found = quantization_candidates(start, &reference, &options.free);
         for c in &found {
             if let Some(p) = c.parameters.first() {
                 localisation.findings.push(format!(
@@ -343,11 +371,10 @@ fn failed(effect: String, label: String, why: String) -> Candidate {
 /// prove the quantizer (2nR² > 40).
 fn quantization_candidates(
     start: &SlewingModel,
-    data: &Measurement,
+    reference: &Reference<'_>,
     free: &[String],
-    base_channels: &[f64],
-    base_error: f64,
 ) -> Vec<Candidate> {
+    let data = reference.data;
     let sensors: Vec<Sensor> = start.sensors().to_vec();
     let mut out = Vec::new();
     for (o, sensor) in sensors.iter().enumerate() {
@@ -366,31 +393,14 @@ fn quantization_candidates(
             request.max_iterations = 60;
             fit(&model, data, &request)
         };
-        let outcome = match attempt() {
-            Ok(outcome) => outcome,
-            Err(e) => {
-                out.push(failed("sensor_quantization".into(), label, e.to_string()));
-                continue;
-            }
+        let parameter = EffectParameter {
+            name: format!("quantization_step_{}", sensor.output_name()),
+            value: lattice.step,
+            std_error: lattice.std_error,
         };
-        let error = *outcome.report.error_history.last().expect("history");
-        let delta_bic = delta_bic(&channel_errors(data, &outcome), base_channels, data.n_samples(), 1);
-        out.push(Candidate {
-            effect: "sensor_quantization".into(),
-            label,
-            error,
-            reduction: 1.0 - error / base_error,
-            delta_bic,
-            score: -delta_bic,
-            whiteness_p: whiteness(data, &outcome),
-            parameters: vec![EffectParameter {
-                name: format!("quantization_step_{}", sensor.output_name()),
-                value: lattice.step,
-                std_error: lattice.std_error,
-            }],
-            failure: None,
-            model: Some(outcome.fitted.clone()),
-            outcome: Some(outcome),
+        out.push(match attempt() {
+            Ok(outcome) => reference.score("sensor_quantization".into(), label, outcome, vec![parameter]),
+            Err(e) => failed("sensor_quantization".into(), label, e.to_string()),
         });
     }
     out

@@ -2,7 +2,7 @@
 
 use crate::WorkflowError;
 use faer::Mat;
-use mem::{Experiment, Fit, FitReport, Measurement, ResponseModel, Safeguard};
+use mem::{Experiment, Fit, FitReport, Measurement, ResponseModel, Safeguard, interval_residual};
 use nonlinear::{NonlinearResponse, simulate_model, simulate_sensors};
 use plant::SlewingModel;
 use slewing::SlewingFitModel;
@@ -62,9 +62,7 @@ impl FitOutcome {
     /// output to it — what the fit minimised (`mem::Experiment::with_quantization`).
     pub fn residual(&self, data: &Measurement) -> Mat<f64> {
         Mat::from_fn(data.n_samples(), data.n_outputs(), |k, o| {
-            let r = data.values()[(k, o)] - self.final_sensed[(k, o)];
-            let half_width = self.half_widths[o];
-            r - r.clamp(-half_width, half_width)
+            interval_residual(data.values()[(k, o)] - self.final_sensed[(k, o)], self.half_widths[o])
         })
     }
 }
@@ -132,9 +130,8 @@ pub fn fit(
     } else {
         Experiment::new(response.as_ref(), &data)
     };
-    let quantization = model.quantization();
-    let experiment = experiment.with_quantization(&quantization);
-    let weights = experiment.weights.clone();
+    let experiment = experiment.with_quantization(&model.quantization());
+    let (weights, half_widths) = (experiment.weights.clone(), experiment.half_widths.clone());
     let report = Fit::new()
         .with_bounds(adapter.bounds())?
         .with_safeguard(request.safeguard)
@@ -146,7 +143,6 @@ pub fn fit(
     let initial_outputs = simulate_model(model, data.interval(), data.n_samples())?;
     let final_outputs = simulate_model(&fitted, data.interval(), data.n_samples())?;
     let final_sensed = simulate_sensors(&fitted, data.interval(), data.n_samples())?;
-    let half_widths = quantization.iter().map(|s| s.map_or(0.0, |d| 0.5 * d)).collect();
     Ok(FitOutcome {
         report,
         initial: model.clone(),

@@ -15,13 +15,8 @@ fn product_into(out: MatMut<'_, f64>, accum: Accum, a: MatRef<'_, f64>, b: MatRe
 
 /// A·B.
 pub(crate) fn mul(a: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
-    mul_ref(a.as_ref(), b.as_ref())
-}
-
-/// A·B for views.
-pub(crate) fn mul_ref(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
     let mut out = Mat::<f64>::zeros(a.nrows(), b.ncols());
-    product_into(out.as_mut(), Accum::Replace, a, b);
+    product_into(out.as_mut(), Accum::Replace, a.as_ref(), b.as_ref());
     out
 }
 

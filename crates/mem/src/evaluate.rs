@@ -1,7 +1,7 @@
 //! Residuals and sensitivities of all experiments at one P (Eqs. 11–12, stacked).
 
 use crate::vector::sum_squares;
-use crate::{Experiment, MemError};
+use crate::{Experiment, MemError, interval_residual};
 use expm::Response;
 use faer::Mat;
 
@@ -75,9 +75,7 @@ pub(crate) fn evaluate(experiments: &[Experiment<'_>], p: &[f64]) -> Result<Eval
             let model =
                 out.outputs.col(o).try_as_col_major().expect("an owned Mat is column-major").as_slice();
             for (chunk, (m, y)) in rows.chunks_exact_mut(n_out).zip(meas.iter().zip(model)) {
-                let r = m - y;
-                // Interval readings: the distance to [y − Δ/2, y + Δ/2] (0 inside).
-                chunk[o] = r - r.clamp(-half_width, half_width);
+                chunk[o] = interval_residual(m - y, half_width);
             }
         }
         scale_rows(&mut rows[..k * n_out], &e.weights);

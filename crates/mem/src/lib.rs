@@ -88,7 +88,7 @@ mod vector;
 pub use data::Measurement;
 pub use error::{BoxedError, MemError};
 pub use fit::{Fit, GaussNewtonStep, Safeguard, Termination, gauss_newton_step};
-pub use model::{Experiment, LinearModel, LinearResponse, Linearized, ResponseModel};
+pub use model::{Experiment, LinearModel, LinearResponse, Linearized, ResponseModel, interval_residual};
 pub use report::{
     Combination, DerivativeCheck, FitReport, Identifiability, IterationRecord, Statistics, t_quantile_975,
 };

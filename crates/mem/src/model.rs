@@ -88,6 +88,13 @@ impl<M: LinearModel> ResponseModel for LinearResponse<M> {
     }
 }
 
+/// The residual of an interval reading: the distance of the model's output from
+/// [y − half_width, y + half_width], signed, for the plain residual `r` = y − ŷ (0 inside;
+/// `r` itself for an exact reading, half_width = 0). See [`Experiment::with_quantization`].
+pub fn interval_residual(r: f64, half_width: f64) -> f64 {
+    r - r.clamp(-half_width, half_width)
+}
+
 /// One experiment: a model and the measurement it must reproduce, with output weights.
 pub struct Experiment<'a> {
     /// The model (with this experiment's initial condition and sensors).
