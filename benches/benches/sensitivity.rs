@@ -73,7 +73,8 @@ fn bench_iteration(c: &mut Criterion) {
             .map(|(i, v)| v * (1.0 + 0.05 * ((i % 3) as f64 - 1.0)))
             .collect();
         let data = test_problems::simulate_measurement(&model, &truth, 1.0 / 12.8, size.samples, 0.01, 1);
-        let experiments = [mem::Experiment::normalized(&model, &data)];
+        let experiments =
+            mem::Problem::unnamed(vec![mem::Experiment::normalized(&model, &data)], &fam.p_nominal).unwrap();
         if size.name == "large" {
             group.sample_size(10);
         }
@@ -87,9 +88,10 @@ fn bench_iteration(c: &mut Criterion) {
 
 fn bench_paper_fit(c: &mut Criterion) {
     let problem = memid_benches::paper_fit();
-    let experiments = [mem::Experiment::new(&problem.model, &problem.data)];
-    let p0 = problem.p0.clone();
-    c.bench_function("fit/paper", |b| b.iter(|| mem::Fit::new().run(black_box(&experiments), &p0).unwrap()));
+    let experiments =
+        mem::Problem::unnamed(vec![mem::Experiment::new(&problem.model, &problem.data)], &problem.p0)
+            .unwrap();
+    c.bench_function("fit/paper", |b| b.iter(|| mem::Fit::new().run(black_box(&experiments)).unwrap()));
 }
 
 criterion_group!(benches, bench_expm, bench_frechet, bench_propagator, bench_iteration, bench_paper_fit);

@@ -43,7 +43,8 @@ fn main() {
         let fam = test_problems::ModalFamily::new(n / 2, 5, 4, 2026);
         let model = mem::LinearResponse(fam.clone());
         let data = test_problems::simulate_measurement(&model, &fam.p_nominal, 1.0 / 12.8, 2000, 0.01, 1);
-        let experiments = [mem::Experiment::normalized(&model, &data)];
+        let experiments =
+            mem::Problem::unnamed(vec![mem::Experiment::normalized(&model, &data)], &fam.p_nominal).unwrap();
         let t = median(if n >= 128 { 3 } else { 11 }, || {
             std::hint::black_box(mem::gauss_newton_step(&experiments, &fam.p_nominal, 1e-10).unwrap());
         });

@@ -23,7 +23,8 @@ fn main() {
         // For `perf record`: nothing but the whole iteration.
         let model = mem::LinearResponse(fam.clone());
         let data = test_problems::simulate_measurement(&model, &fam.p_nominal, h, size.samples, 0.01, 1);
-        let experiments = [mem::Experiment::normalized(&model, &data)];
+        let experiments =
+            mem::Problem::unnamed(vec![mem::Experiment::normalized(&model, &data)], &fam.p_nominal).unwrap();
         time("gauss_newton_step", 100000, || {
             std::hint::black_box(mem::gauss_newton_step(&experiments, &fam.p_nominal, 1e-10).unwrap());
         });
@@ -53,11 +54,11 @@ fn main() {
     }
     if std::env::args().any(|a| a == "--fit-only") {
         let memid_benches::PaperFit { adapter, model, data, p0 } = memid_benches::paper_fit();
-        let experiments = [mem::Experiment::new(&model, &data)];
-        let report = mem::Fit::new().run(&experiments, &p0).unwrap();
+        let experiments = mem::Problem::unnamed(vec![mem::Experiment::new(&model, &data)], &p0).unwrap();
+        let report = mem::Fit::new().run(&experiments).unwrap();
         println!("{} iterations, {:?}", report.iterations, report.termination);
         time("paper fit", 2000, || {
-            std::hint::black_box(mem::Fit::new().run(&experiments, &p0).unwrap());
+            std::hint::black_box(mem::Fit::new().run(&experiments).unwrap());
         });
         time("linearize", 20000, || {
             use mem::LinearModel;
@@ -103,7 +104,8 @@ fn main() {
     });
     let model = mem::LinearResponse(fam.clone());
     let data = test_problems::simulate_measurement(&model, &fam.p_nominal, h, size.samples, 0.01, 1);
-    let experiments = [mem::Experiment::normalized(&model, &data)];
+    let experiments =
+        mem::Problem::unnamed(vec![mem::Experiment::normalized(&model, &data)], &fam.p_nominal).unwrap();
     qr_probe();
     time("gauss_newton_step", 20000, || {
         std::hint::black_box(mem::gauss_newton_step(&experiments, &fam.p_nominal, 1e-10).unwrap());

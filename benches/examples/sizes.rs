@@ -48,8 +48,11 @@ fn iteration_time(size: Size, experiments_count: usize) -> f64 {
             test_problems::simulate_measurement(&model, &truth, 1.0 / 12.8, size.samples, 0.01, 1 + e as u64)
         })
         .collect();
-    let experiments: Vec<mem::Experiment<'_>> =
-        data.iter().map(|d| mem::Experiment::normalized(&model, d)).collect();
+    let experiments = mem::Problem::unnamed(
+        data.iter().map(|d| mem::Experiment::normalized(&model, d)).collect(),
+        &fam.p_nominal,
+    )
+    .unwrap();
     let reps = match size.name {
         "paper" => 2001,
         "medium" => 101,
@@ -65,10 +68,11 @@ fn paper_fit_time() -> f64 {
     let fam = family(size);
     let model = mem::LinearResponse(fam.clone());
     let data = test_problems::simulate_measurement(&model, &fam.p_nominal, 1.0 / 12.8, size.samples, 0.01, 1);
-    let experiments = [mem::Experiment::normalized(&model, &data)];
     let start: Vec<f64> = fam.p_nominal.iter().map(|v| v * 1.3).collect();
+    let experiments =
+        mem::Problem::unnamed(vec![mem::Experiment::normalized(&model, &data)], &start).unwrap();
     median_seconds(201, || {
-        std::hint::black_box(mem::Fit::new().run(&experiments, &start).unwrap());
+        std::hint::black_box(mem::Fit::new().run(&experiments).unwrap());
     })
 }
 

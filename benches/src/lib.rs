@@ -36,9 +36,9 @@ pub fn family(size: Size) -> ModalFamily {
 /// K_p = 6.8 with 1 % noise (seed 5).
 pub struct PaperFit {
     /// The plant with its free parameters.
-    pub adapter: slewing::SlewingFitModel,
+    pub adapter: models::SlewingFitModel,
     /// The MEM model.
-    pub model: mem::LinearResponse<slewing::SlewingFitModel>,
+    pub model: mem::LinearResponse<models::SlewingFitModel>,
     /// The simulated measurement.
     pub data: mem::Measurement,
     /// The starting values.
@@ -50,7 +50,7 @@ pub fn paper_fit() -> PaperFit {
     let text = plant::PAPER_MODEL_RON
         .replace("outputs: [Potentiometer, Tachometer, StrainGauge]", "outputs: [Potentiometer]");
     let position = plant::SlewingModel::from_ron(&text, "position").expect("the embedded model parses");
-    let adapter = slewing::SlewingFitModel::new(position, &["cv", "kp"]).expect("cv and kp exist");
+    let adapter = models::SlewingFitModel::new(position, &["cv", "kp"]).expect("cv and kp exist");
     let p0 = adapter.values();
     let model = adapter.clone().response();
     let data = test_problems::simulate_measurement(&model, &[0.15, 6.8], 1.0 / 12.8, 385, 0.01, 5);

@@ -2,12 +2,12 @@
 //! score → name the effect with the strongest evidence, or none.
 
 use crate::WorkflowError;
-use crate::fitting::{FitOutcome, FitRequest, align, fit};
 use crate::localise::{Localisation, localise};
 use crate::quantization;
 use crate::stats::{ar1_innovations, delta_bic, ljung_box};
 use faer::Mat;
 use mem::Measurement;
+use models::{FitOutcome, FitRequest, align, fit};
 use plant::{Effect, ModeKind, ParamId, Sensor, SlewingModel};
 use rayon::prelude::*;
 
@@ -261,7 +261,8 @@ pub fn diagnose(
 ) -> Result<Diagnosis, WorkflowError> {
     let data = align(model, data)?;
     let free: Vec<&str> = options.free.iter().map(|s| s.as_str()).collect();
-    let request = FitRequest::new(&free);
+    let mut request = FitRequest::new(&free);
+    request.derivative_check = mem::DerivativeCheck::Skip;
     let baseline = fit(model, &data, &request)?;
     let localisation = localise(&data, &baseline);
     let reference = Reference {
@@ -288,7 +289,8 @@ pub fn diagnose(
                 let refs: Vec<&str> = names.iter().map(|s| s.as_str()).collect();
                 let mut request = FitRequest::new(&refs);
                 request.max_iterations = 60;
-                fit(&augmented, &data, &request)
+                request.derivative_check = mem::DerivativeCheck::Skip;
+                Ok(fit(&augmented, &data, &request)?)
             };
             match attempt() {
                 Ok(outcome) => {
@@ -304,7 +306,7 @@ pub fn diagnose(
                             EffectParameter {
                                 name: p.name(),
                                 value: outcome.report.parameters[i],
-                                std_error: outcome.report.statistics.std_errors[i],
+                                std_error: outcome.report.std_error(i).unwrap_or(f64::INFINITY),
                             }
                         })
                         .collect();
@@ -391,7 +393,8 @@ fn quantization_candidates(
             let refs: Vec<&str> = free.iter().map(|s| s.as_str()).collect();
             let mut request = FitRequest::new(&refs);
             request.max_iterations = 60;
-            fit(&model, data, &request)
+            request.derivative_check = mem::DerivativeCheck::Skip;
+            Ok(fit(&model, data, &request)?)
         };
         let parameter = EffectParameter {
             name: format!("quantization_step_{}", sensor.output_name()),

@@ -1,8 +1,5 @@
 //! # discrepancy — fit slewing models, find what physics they miss
 //!
-//! [`fitting`] fits any slewing model (linear: exact exponential path; with nonlinear effects:
-//! ODE path) to a measurement and returns the models and responses around the fit.
-//!
 //! [`diagnose`] goes where the paper stopped: when the linear model's optimum does not
 //! reproduce the data, it
 //! 1. fits the baseline model;
@@ -24,7 +21,6 @@
 //! for leaving a reading's interval, not for the quantizer's rounding.
 
 pub mod diagnose;
-pub mod fitting;
 pub mod localise;
 pub mod quantization;
 pub mod stats;
@@ -32,8 +28,8 @@ pub mod study;
 pub mod study_run;
 
 pub use diagnose::{Candidate, DiagnoseOptions, Diagnosis, EffectParameter, diagnose};
-pub use fitting::{FitOutcome, FitRequest, align, fit, response_model};
 pub use localise::{Localisation, OutputDiscrepancy, localise};
+pub use models::{FitOutcome, FitRequest, align, fit, response_model};
 
 /// What can go wrong in a workflow.
 #[derive(Debug, thiserror::Error)]
@@ -44,18 +40,10 @@ pub enum WorkflowError {
     /// The identification failed.
     #[error(transparent)]
     Mem(#[from] mem::MemError),
-    /// A simulation failed.
+    /// The model could not be fitted or simulated.
     #[error(transparent)]
-    Simulation(#[from] nonlinear::NonlinearError),
+    Model(#[from] models::ModelError),
     /// ERA failed.
     #[error(transparent)]
     Era(#[from] era::EraError),
-    /// The data's columns are not the model's outputs.
-    #[error("the data columns {data:?} do not match the model's outputs {model:?}")]
-    Columns {
-        /// Columns of the data (after the time column).
-        data: Vec<String>,
-        /// Outputs of the model.
-        model: Vec<String>,
-    },
 }

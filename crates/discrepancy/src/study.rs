@@ -63,7 +63,7 @@ pub fn measurement(case: &str, seed: u64) -> Measurement {
     let model = truth(case);
     let h = 1.0 / 12.8;
     let n = 385;
-    let clean = nonlinear::simulate_model(&model, h, n).expect("the study's truth models simulate");
+    let clean = models::simulate_model(&model, h, n).expect("the study's truth models simulate");
     let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
     let mut noisy = Mat::zeros(n, clean.ncols());
     for o in 0..clean.ncols() {

@@ -42,3 +42,11 @@ pub(crate) fn finite(name: &'static str, a: MatRef<'_, f64>) -> Result<(), ExpmE
     }
     Ok(())
 }
+
+/// Fails unless a list has one entry per parameter.
+pub(crate) fn count(name: &'static str, len: usize, expected: usize) -> Result<(), ExpmError> {
+    if len != expected {
+        return Err(ExpmError::Count { name, len, expected });
+    }
+    Ok(())
+}

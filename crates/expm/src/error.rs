@@ -45,6 +45,40 @@ pub enum ExpmError {
         /// The interval given.
         h: f64,
     },
+    /// A matrix has no rows and columns.
+    #[error("matrix `{name}` is 0×0: a model needs at least one state")]
+    Empty {
+        /// Which argument.
+        name: &'static str,
+    },
+    /// A list of matrices has the wrong length.
+    #[error("`{name}` holds {len} matrices, but there are {expected} parameters")]
+    Count {
+        /// Which argument.
+        name: &'static str,
+        /// Its length.
+        len: usize,
+        /// The number of parameters.
+        expected: usize,
+    },
+    /// The time of the first sample is negative or not finite.
+    #[error("the first sample's time must be finite and ≥ 0 (x(0) holds at t = 0), got {t0}")]
+    InvalidStart {
+        /// The time given.
+        t0: f64,
+    },
+    /// The 1-norm of the matrix itself overflows `f64`.
+    #[error("the 1-norm of the matrix to exponentiate overflows (entries near {largest:e}); scale the model")]
+    NormOverflow {
+        /// Its largest entry in magnitude.
+        largest: f64,
+    },
+    /// A computed result holds NaN or infinite values although the arguments were finite.
+    #[error("{what} is not finite (an overflow); scale the model or shorten the record")]
+    NonFiniteResult {
+        /// What was being computed.
+        what: &'static str,
+    },
     /// The result does not fit in `f64` (‖A‖ is too large, or e^A too large).
     #[error(
         "the matrix exponential overflowed (‖A‖₁ = {norm:e}, {squarings} squarings); \

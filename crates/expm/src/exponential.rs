@@ -33,7 +33,7 @@ pub fn expm(a: MatRef<'_, f64>) -> Result<Mat<f64>, ExpmError> {
         // e^{Aᵀ} = (e^A)ᵀ: a lower triangular matrix gets the triangular treatment too.
         return Ok(expm(a.transpose())?.transpose().to_owned());
     }
-    let scaled = pade::choose(&a.to_owned(), Target::Exponential);
+    let scaled = pade::choose(&a.to_owned(), Target::Exponential)?;
     let parts = pade::evaluate(&scaled);
     let mut r = pade::quotient(&parts.u, &parts.v).0;
     let triangular = is_upper_triangular(a);

@@ -244,6 +244,9 @@ impl<const N: usize> Square for Fixed<N> {
     fn all_finite(&self) -> bool {
         self.0.iter().flatten().all(|v| v.is_finite())
     }
+    fn max_abs(&self) -> f64 {
+        self.0.iter().flatten().fold(0.0, |m, v| m.max(v.abs()))
+    }
     fn lu(&self) -> Self::Lu {
         pulp::Arch::new().dispatch(Factor(self))
     }

@@ -31,7 +31,7 @@ impl<M: Square> Frechet<M> {
     /// e^A and the shared factors (A already checked to be square and finite).
     pub(crate) fn new(a: &M) -> Result<Self, ExpmError> {
         let norm = a.norm1();
-        let scaled = pade::choose(a, Target::FrechetDerivative);
+        let scaled = pade::choose(a, Target::FrechetDerivative)?;
         let PadeParts { u, v, w, z } = pade::evaluate(&scaled);
         let (r0, lu) = pade::quotient(&u, &v);
         let mut squares = Vec::with_capacity(scaled.squarings as usize + 1);

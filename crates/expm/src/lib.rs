@@ -66,4 +66,7 @@ pub use error::ExpmError;
 pub use exponential::expm;
 pub use frechet::{ExpmFrechet, expm_frechet, expm_frechet_many};
 pub use norm::norm1;
-pub use propagate::{MODAL_MIN_STATES, Method, Response, SensitivityPropagator, Strategy, free_decay};
+pub use propagate::{
+    Forcing, Hold, MODAL_MIN_STATES, Method, Response, ResponseProblem, SensitivityPropagator, Strategy,
+    free_decay,
+};

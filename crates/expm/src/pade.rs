@@ -13,6 +13,7 @@
 //! Al-Mohy & Higham (2009b, Table 6.1), which bound the backward error of L(X, E) as well;
 //! the same Theorem 4.2 lets them be compared with α_p(X).
 
+use crate::ExpmError;
 use crate::square::{EXACT_POWER_NORMS, Square};
 
 /// Unit roundoff of `f64`, 2⁻⁵³.
@@ -128,33 +129,162 @@ pub(crate) struct Scaled<M> {
     pub powers: Vec<M>,
 }
 
-/// Algorithm 5.1 of Al-Mohy & Higham (2009a): choose m and s, form the needed powers.
-pub(crate) fn choose<M: Square>(a: &M, target: Target) -> Scaled<M> {
+/// Highest power whose norm the derivative guard looks at: 2·13, for the degree-13 remainder.
+const GUARD_POWERS: usize = 26;
+
+/// Upper bounds of ‖A^i‖₁ for i = 0..=26 from the norms that are known (`known[i]` for ‖A^i‖),
+/// the others bounded by sub-multiplicativity ‖A^i‖ ≤ ‖A^l‖‖A^{i−l}‖.
+fn power_bounds(known: &[(usize, f64)]) -> [f64; GUARD_POWERS + 1] {
+    let mut a = [f64::INFINITY; GUARD_POWERS + 1];
+    a[0] = 1.0;
+    for &(i, v) in known {
+        if i <= GUARD_POWERS {
+            a[i] = a[i].min(v);
+        }
+    }
+    for i in 2..=GUARD_POWERS {
+        for l in 1..i {
+            a[i] = a[i].min(a[l] * a[i - l]);
+        }
+    }
+    a
+}
+
+/// δ_k = (S_k/k)^{1/(k−1)} with S_k = Σ_{i+j=k−1} ‖X^i‖‖X^j‖, for X = scale·A (`norms` of A).
+///
+/// The Padé approximant's backward error for the Fréchet derivative in direction F is the
+/// derivative of the remainder series, ΔF = Σ_{k ≥ 2m+1} c_k Σ_{i+j=k−1} X^i F X^j, so
+/// ‖ΔF‖/‖F‖ ≤ Σ c_k S_k ≤ Σ c_k k δ^{k−1} = h′(δ) when every S_k ≤ k δ^{k−1}: δ ≤ ℓ_m keeps it
+/// below the unit roundoff (Al-Mohy & Higham 2009b, whose ℓ_m bound exactly h′). Evaluated at
+/// k = 2m + 1, the remainder's leading term. The powers of X alone cannot see these terms: a
+/// nilpotent X (X⁴ = 0) has ‖X^k‖ = 0 for k ≥ 4, but X³FX³ ≠ 0.
+fn cross_delta(norms: &[f64; GUARD_POWERS + 1], scale: f64, k: usize) -> f64 {
+    let s_k: f64 = (0..k).map(|i| norms[i] * norms[k - 1 - i] * scale.powi((k - 1) as i32)).sum();
+    (s_k / k as f64).powf(1.0 / (k - 1) as f64)
+}
+
+/// Exact ‖A^i‖₁ for i = 1..=26, by forming the powers of `scale`·A (None if they overflow);
+/// returned as norms of A (divided back by scaleⁱ).
+fn exact_power_norms<M: Square>(a: &M, scale: f64) -> Option<[f64; GUARD_POWERS + 1]> {
+    let mut x = a.clone();
+    x.scale(scale);
+    let mut norms = [0.0; GUARD_POWERS + 1];
+    norms[0] = 1.0;
+    let mut power = x.clone();
+    for i in 1..=GUARD_POWERS {
+        if i > 1 {
+            power = power.product(&x);
+        }
+        let v = power.norm1();
+        if !v.is_finite() {
+            return None;
+        }
+        norms[i] = v / scale.powi(i as i32);
+    }
+    Some(norms)
+}
+
+/// Makes an α-based choice (m, s) safe for the Fréchet derivative: keeps it if
+/// max(δ_{m+1}, δ_{2m+1}) ≤ ℓ_m (see [`cross_delta`]) with the bounds from the known norms; otherwise with the
+/// exact norms of the powers (formed only then, and only for n ≤ 64); otherwise raises s, or
+/// moves to m = 13, until the condition holds. Returns (m, s).
+fn guard_derivative<M: Square>(a: &M, known: &[(usize, f64)], degree: usize, squarings: u32) -> (usize, u32) {
+    let target = Target::FrechetDerivative;
+    // δ at k = 2m + 1 bounds the remainder (truncation); at k = m + 1, the degree of the
+    // polynomials U and V, it keeps their evaluation from cancelling (rounding).
+    let delta = |norms: &[f64; GUARD_POWERS + 1], m: usize, s: u32| {
+        let scale = 0.5f64.powi(s as i32);
+        cross_delta(norms, scale, m + 1).max(cross_delta(norms, scale, 2 * m + 1))
+    };
+    let safe = |norms: &[f64; GUARD_POWERS + 1], m: usize, s: u32| delta(norms, m, s) <= target.threshold(m);
+    let bounds = power_bounds(known);
+    if safe(&bounds, degree, squarings) {
+        return (degree, squarings);
+    }
+    let norms = if a.order() <= EXACT_POWER_NORMS {
+        exact_power_norms(a, 0.5f64.powi(squarings as i32)).unwrap_or(bounds)
+    } else {
+        bounds
+    };
+    if safe(&norms, degree, squarings) {
+        return (degree, squarings);
+    }
+    // The fewest squarings with m = 13 (δ is homogeneous of degree one in the scale).
+    let needed = delta(&norms, 13, squarings);
+    let extra = if needed.is_finite() && needed > 0.0 {
+        (needed / target.threshold(13)).log2().ceil().max(0.0) as u32
+    } else if needed == 0.0 {
+        0
+    } else {
+        64
+    };
+    (13, squarings + extra)
+}
+
+/// Algorithm 5.1 of Al-Mohy & Higham (2009a): choose m and s, form the needed powers; for the
+/// Fréchet derivative, the choice is then made safe for the cross terms X^iFX^j
+/// ([`guard_derivative`]).
+///
+/// # Errors
+/// [`ExpmError::NormOverflow`] if ‖A‖₁ itself overflows.
+pub(crate) fn choose<M: Square>(a: &M, target: Target) -> Result<Scaled<M>, ExpmError> {
     // Powers of a matrix with a huge norm would overflow before they are scaled: halve first.
     let norm = a.norm1();
+    if !norm.is_finite() {
+        return Err(ExpmError::NormOverflow { largest: a.max_abs() });
+    }
     if norm > HUGE_NORM {
+        // norm ≤ f64::MAX, so at most 1024 halvings bring it below 1 (one level of recursion).
         let extra = norm.log2().ceil() as u32;
         let mut smaller = a.clone();
         smaller.scale(0.5f64.powi(extra as i32));
-        let mut s = choose(&smaller, target);
+        let mut s = choose(&smaller, target)?;
         s.squarings += extra;
         s.scale *= 0.5f64.powi(extra as i32);
-        return s;
+        return Ok(s);
     }
-    let n = a.order();
-    let finish = |degree: usize, squarings: u32, mut powers: Vec<M>| {
-        let scale = 0.5f64.powi(squarings as i32);
-        let mut x = a.clone();
-        if squarings > 0 {
-            x.scale(scale);
-            for (k, p) in powers.iter_mut().enumerate().skip(1) {
-                p.scale(scale.powi(2 * k as i32));
-            }
-        }
-        Scaled { degree, squarings, scale, x, powers }
+    let (degree, squarings, powers, known) = alpha_choice(a, target);
+    let (degree, squarings) = match target {
+        Target::Exponential => (degree, squarings),
+        Target::FrechetDerivative => guard_derivative(a, &known, degree, squarings),
     };
+    let n = a.order();
+    // The even powers the degree needs (formed already for the α choice, or now).
+    let mut powers = powers;
+    if powers.is_empty() {
+        powers.push(M::identity(n));
+    }
+    let needed = match degree {
+        3 => 2,
+        5 => 3,
+        7 | 13 => 4,
+        _ => 5,
+    };
+    while powers.len() < needed {
+        let next =
+            if powers.len() == 1 { a.product(a) } else { powers[powers.len() - 1].product(&powers[1]) };
+        powers.push(next);
+    }
+    powers.truncate(needed);
+    let scale = 0.5f64.powi(squarings as i32);
+    let mut x = a.clone();
+    if squarings > 0 {
+        x.scale(scale);
+        for (k, p) in powers.iter_mut().enumerate().skip(1) {
+            p.scale(scale.powi(2 * k as i32));
+        }
+    }
+    Ok(Scaled { degree, squarings, scale, x, powers })
+}
+
+/// The α_p-based choice of Al-Mohy & Higham (2009a, Algorithm 5.1) with the thresholds of
+/// `target`: (m, s, the powers [I, A², A⁴, …] formed on the way (unscaled), the power norms
+/// known on the way as (i, ‖A^i‖₁)).
+fn alpha_choice<M: Square>(a: &M, target: Target) -> (usize, u32, Vec<M>, Vec<(usize, f64)>) {
+    let n = a.order();
     let identity = M::identity(n);
     let a2 = a.product(a);
+    let mut known = vec![(1, a.norm1()), (2, a2.norm1())];
     // For small n, A⁴ and A⁶ are formed now (they are needed for m ≥ 5 anyway, and the exact
     // norms of the powers are cheaper than the estimator's bookkeeping).
     let small = n <= EXACT_POWER_NORMS;
@@ -170,26 +300,33 @@ pub(crate) fn choose<M: Square>(a: &M, target: Target) -> Scaled<M> {
         None => M::product_norm1(&[&a2, &a2, &a2]),
     }
     .powf(1.0 / 6.0);
+    if small {
+        known.push((4, d4_estimate.powi(4)));
+        known.push((6, d6_estimate.powi(6)));
+    }
     let eta1 = d4_estimate.max(d6_estimate);
     if eta1 <= target.threshold(3) && extra_squarings(a, 3) == 0 {
-        return finish(3, 0, vec![identity, a2]);
+        return (3, 0, vec![identity, a2], known);
     }
     let a4 = a4_early.unwrap_or_else(|| a2.product(&a2));
     let d4 = a4.norm1().powf(0.25);
+    known.push((4, a4.norm1()));
     let eta2 = d4.max(d6_estimate);
     if eta2 <= target.threshold(5) && extra_squarings(a, 5) == 0 {
-        return finish(5, 0, vec![identity, a2, a4]);
+        return (5, 0, vec![identity, a2, a4], known);
     }
     let a6 = a6_early.unwrap_or_else(|| a2.product(&a4));
     let d6 = a6.norm1().powf(1.0 / 6.0);
+    known.push((6, a6.norm1()));
     let d8 = M::product_norm1(&[&a4, &a4]).powf(0.125);
     let eta3 = d6.max(d8);
     if eta3 <= target.threshold(7) && extra_squarings(a, 7) == 0 {
-        return finish(7, 0, vec![identity, a2, a4, a6]);
+        return (7, 0, vec![identity, a2, a4, a6], known);
     }
     if eta3 <= target.threshold(9) && extra_squarings(a, 9) == 0 {
         let a8 = a4.product(&a4);
-        return finish(9, 0, vec![identity, a2, a4, a6, a8]);
+        known.push((8, a8.norm1()));
+        return (9, 0, vec![identity, a2, a4, a6, a8], known);
     }
     let d10 = M::product_norm1(&[&a4, &a6]).powf(0.1);
     let eta4 = d8.max(d10);
@@ -199,7 +336,7 @@ pub(crate) fn choose<M: Square>(a: &M, target: Target) -> Scaled<M> {
     let mut scaled = a.clone();
     scaled.scale(0.5f64.powi(squarings as i32));
     squarings += extra_squarings(&scaled, 13);
-    finish(13, squarings, vec![identity, a2, a4, a6])
+    (13, squarings, vec![identity, a2, a4, a6], known)
 }
 
 /// U and V of r_m(X), with the odd-part polynomial W (U = X W) kept for the Fréchet derivative.

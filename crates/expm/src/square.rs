@@ -41,6 +41,8 @@ pub(crate) trait Square: Clone {
     fn product_norm1(factors: &[&Self]) -> f64;
     /// Whether every entry is finite.
     fn all_finite(&self) -> bool;
+    /// The largest entry in magnitude.
+    fn max_abs(&self) -> f64;
     /// LU factors of self.
     fn lu(&self) -> Self::Lu;
     /// rhs ← self⁻¹ rhs from the factors.
@@ -124,6 +126,9 @@ impl Square for Mat<f64> {
     }
     fn all_finite(&self) -> bool {
         self.is_all_finite()
+    }
+    fn max_abs(&self) -> f64 {
+        self.norm_max()
     }
     fn lu(&self) -> Self::Lu {
         self.partial_piv_lu()

@@ -111,6 +111,12 @@ fn frechet_matches_high_precision_reference() {
             case.name
         );
         assert!(err <= bound, "{}: L error {err:e} > 20uκ = {bound:e}", case.name);
+        if case.name == "moler_3x3_overscaling" {
+            // κ ≈ 3e36 makes 20uκ vacuous here; the point of the case is over-scaling: ‖A‖₁ ≈ 2e10
+            // asks ‖A‖-based degree selection (SciPy, relative error 1.5e17) for ~35 squarings.
+            // The α_p-based choice with the derivative guard keeps the error near 1e-12.
+            assert!(err < 1e-11, "over-scaling: L error {err:e}");
+        }
         assert!(
             err <= 2.0 * case.scipy_frechet_err + U * case.kappa_frechet,
             "{}: L error {err:e} worse than scipy's {:e}",

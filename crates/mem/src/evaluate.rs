@@ -1,7 +1,13 @@
 //! Residuals and sensitivities of all experiments at one P (Eqs. 11–12, stacked).
+//!
+//! Each experiment's model is simulated on its record's model grid — the raw grid of a
+//! decimated record — and, for a decimated record, its outputs and every sensitivity column go
+//! through the record's own decimation operator, so model and data are treated identically.
+//! Rows are weighted per output (and per decimated row by the inverse noise gain of the edge
+//! rows); local parameters are scattered into the problem's columns.
 
 use crate::vector::sum_squares;
-use crate::{Experiment, MemError, interval_residual};
+use crate::{Grid, Measurement, MemError, Problem, ResponseModel, interval_residual};
 use expm::Response;
 use faer::Mat;
 
@@ -9,10 +15,40 @@ use faer::Mat;
 pub(crate) struct Evaluation {
     /// Weighted residual w·(y_meas − y_model), all experiments, rows (experiment, k, output).
     pub residual: Vec<f64>,
-    /// Weighted sensitivities w·∂y/∂P, same rows.
+    /// Weighted sensitivities w·∂y/∂P, same rows, one column per problem parameter.
     pub sensitivity: Mat<f64>,
     /// ‖residual‖².
     pub cost: f64,
+}
+
+/// Where each experiment's rows start and how they are laid out (for per-series statistics).
+#[derive(Clone, Debug)]
+pub(crate) struct RowLayout {
+    /// (first row, samples, outputs) per experiment.
+    pub blocks: Vec<(usize, usize, usize)>,
+}
+
+impl RowLayout {
+    pub fn of(problem: &Problem<'_>) -> Self {
+        let mut row = 0;
+        let blocks = problem
+            .experiments
+            .iter()
+            .map(|e| {
+                let block = (row, e.data.n_samples(), e.data.n_outputs());
+                row += e.data.n_samples() * e.data.n_outputs();
+                block
+            })
+            .collect();
+        Self { blocks }
+    }
+
+    /// The series (rows of one output of one experiment), as (experiment, output, rows).
+    pub fn series(&self) -> impl Iterator<Item = (usize, usize, Vec<usize>)> + '_ {
+        self.blocks.iter().enumerate().flat_map(|(e, &(first, k, p))| {
+            (0..p).map(move |o| (e, o, (0..k).map(|t| first + t * p + o).collect()))
+        })
+    }
 }
 
 /// Multiplies interleaved rows (k, o) — entry k·p + o — by `weights[o]`: eight rows at a time
@@ -41,27 +77,75 @@ fn scale_rows(values: &mut [f64], weights: &[f64]) {
     blocks.into_remainder().iter_mut().zip(pattern).for_each(|(v, w)| *v *= w);
 }
 
+/// The model's response for one experiment on its data's rows (decimated if the data are).
+pub(crate) fn respond(problem: &Problem<'_>, index: usize, p: &[f64]) -> Result<Response, MemError> {
+    let e = &problem.experiments[index];
+    sampled_response(e.model, e.data, &e.local(p)).map_err(|error| match error {
+        MemError::Model { source, .. } => {
+            MemError::Model { experiment: index, parameters: problem.describe(p), source }
+        }
+        other => other,
+    })
+}
+
+/// The outputs and sensitivities of `model` at `p` on the rows of the record `data`: simulated
+/// on the record's model grid (with its inputs) and, for a decimated record, put through the
+/// record's own decimation operator — exactly what a fit compares with the data.
+///
+/// # Errors
+/// [`MemError::Model`] if the model fails or its response is not finite.
+pub fn sampled_response(
+    model: &dyn ResponseModel,
+    data: &Measurement,
+    p: &[f64],
+) -> Result<Response, MemError> {
+    let (start, interval, samples) = data.model_grid();
+    let n_out = data.n_outputs();
+    let mut out = Response::zeros(samples, n_out, p.len());
+    let grid = Grid { start, interval, inputs: data.inputs() };
+    let failure =
+        |source: crate::BoxedError| MemError::Model { experiment: 0, parameters: format!("{p:?}"), source };
+    model.respond(p, &grid, &mut out).map_err(failure)?;
+    if !(out.outputs.as_ref().is_all_finite() && out.sensitivities.as_ref().is_all_finite()) {
+        return Err(failure("the model's response or its sensitivities are not finite".into()));
+    }
+    let Some(decimation) = data.decimation() else { return Ok(out) };
+    let k = decimation.samples();
+    let mut reduced = Response::zeros(k, n_out, p.len());
+    for o in 0..n_out {
+        let raw = out.outputs.col(o).try_as_col_major().expect("an owned Mat is column-major").as_slice();
+        let target = reduced.outputs.col_mut(o).try_as_col_major_mut().expect("an owned Mat is column-major");
+        decimation.apply_strided(raw, 0, 1, target.as_slice_mut(), 0, 1);
+    }
+    for i in 0..p.len() {
+        let raw =
+            out.sensitivities.col(i).try_as_col_major().expect("an owned Mat is column-major").as_slice();
+        let target =
+            reduced.sensitivities.col_mut(i).try_as_col_major_mut().expect("an owned Mat is column-major");
+        let target = target.as_slice_mut();
+        for o in 0..n_out {
+            decimation.apply_strided(raw, o, n_out, target, o, n_out);
+        }
+    }
+    Ok(reduced)
+}
+
 /// Simulates every experiment at P (in parallel when there are several).
-pub(crate) fn evaluate(experiments: &[Experiment<'_>], p: &[f64]) -> Result<Evaluation, MemError> {
+pub(crate) fn evaluate(problem: &Problem<'_>, p: &[f64]) -> Result<Evaluation, MemError> {
+    let experiments = &problem.experiments;
     let n_rows: usize = experiments.iter().map(|e| e.data.n_samples() * e.data.n_outputs()).sum();
     let mut residual: Vec<f64> = Vec::with_capacity(n_rows);
-    let simulate = |(index, e): (usize, &Experiment<'_>)| {
-        let mut out = Response::zeros(e.data.n_samples(), e.data.n_outputs(), p.len());
-        e.model.respond(p, e.data.interval(), &mut out).map_err(|source| MemError::Model {
-            experiment: index,
-            parameters: p.to_vec(),
-            source,
-        })?;
-        Ok::<_, MemError>(out)
-    };
+    let simulate = |index: usize| respond(problem, index, p);
     let mut responses: Vec<Response> = if experiments.len() > 1 {
         use rayon::prelude::*;
-        experiments.par_iter().enumerate().map(simulate).collect::<Result<_, _>>()?
+        (0..experiments.len()).into_par_iter().map(simulate).collect::<Result<_, _>>()?
     } else {
-        experiments.iter().enumerate().map(simulate).collect::<Result<_, _>>()?
+        (0..experiments.len()).map(simulate).collect::<Result<_, _>>()?
     };
-    // One experiment's weighted S is the stacked S: no copy.
-    let mut stacked = (experiments.len() > 1).then(|| Mat::<f64>::zeros(n_rows, p.len()));
+    let j = p.len();
+    // One experiment whose model takes the whole vector: its weighted S is the stacked S.
+    let in_place = experiments.len() == 1 && experiments[0].parameters.is_none();
+    let mut stacked = (!in_place).then(|| Mat::<f64>::zeros(n_rows, j));
     let mut row = 0;
     for (e, out) in experiments.iter().zip(responses.iter_mut()) {
         let (k, n_out) = (e.data.n_samples(), e.data.n_outputs());
@@ -78,11 +162,20 @@ pub(crate) fn evaluate(experiments: &[Experiment<'_>], p: &[f64]) -> Result<Eval
                 chunk[o] = interval_residual(m - y, half_width);
             }
         }
-        scale_rows(&mut rows[..k * n_out], &e.weights);
+        let row_scales: Option<Vec<f64>> = e.data.decimation().map(|d| d.row_scales().collect());
+        let scale = |values: &mut [f64]| {
+            scale_rows(values, &e.weights);
+            if let Some(scales) = &row_scales {
+                for (chunk, s) in values.chunks_exact_mut(n_out).zip(scales) {
+                    chunk.iter_mut().for_each(|v| *v *= s);
+                }
+            }
+        };
+        scale(&mut rows[..k * n_out]);
         // Weighted sensitivities, in place, column by column on contiguous slices.
         let rows = &residual[row..row + k * n_out];
         let intervals = e.half_widths.iter().any(|h| *h > 0.0);
-        for i in 0..p.len() {
+        for i in 0..out.sensitivities.ncols() {
             let column =
                 out.sensitivities.col_mut(i).try_as_col_major_mut().expect("an owned Mat is column-major");
             let column = column.as_slice_mut();
@@ -96,9 +189,9 @@ pub(crate) fn evaluate(experiments: &[Experiment<'_>], p: &[f64]) -> Result<Eval
                     }
                 }
             }
-            scale_rows(column, &e.weights);
+            scale(column);
             if let Some(stacked) = stacked.as_mut() {
-                stacked.col_mut(i).subrows_mut(row, k * n_out).copy_from(out.sensitivities.col(i));
+                stacked.col_mut(e.column(i)).subrows_mut(row, k * n_out).copy_from(out.sensitivities.col(i));
             }
         }
         row += k * n_out;
@@ -108,5 +201,12 @@ pub(crate) fn evaluate(experiments: &[Experiment<'_>], p: &[f64]) -> Result<Eval
         None => responses.pop().expect("one experiment").sensitivities,
     };
     let cost = sum_squares(&residual);
+    if !cost.is_finite() {
+        return Err(MemError::Model {
+            experiment: 0,
+            parameters: problem.describe(p),
+            source: "the error ‖Y_error‖ overflows: the model's response is far from the data".into(),
+        });
+    }
     Ok(Evaluation { residual, sensitivity, cost })
 }

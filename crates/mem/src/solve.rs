@@ -16,11 +16,11 @@ use faer::{Mat, MatRef};
 /// One iteration's decomposition of S and the projections of r.
 pub(crate) struct StepSolver {
     /// Column scales D.
-    scale: Vec<f64>,
+    pub scale: Vec<f64>,
     /// Singular values of S̃ (descending).
     pub singular_values: Vec<f64>,
     /// V (j × j).
-    v: Mat<f64>,
+    pub v: Mat<f64>,
     /// Uᵀ r.
     utr: Vec<f64>,
     /// Number of singular values kept.
@@ -28,11 +28,7 @@ pub(crate) struct StepSolver {
 }
 
 impl StepSolver {
-    pub fn new(s: MatRef<'_, f64>, r: &[f64], rank_cutoff: f64) -> Result<Self, MemError> {
-        Self::from_owned(s.to_owned(), r, rank_cutoff)
-    }
-
-    /// As [`Self::new`], decomposing S in place (no copy when the caller no longer needs S).
+    /// Decomposes S (m × j, taken by value: it is overwritten) for the residual r.
     pub fn from_owned(s: Mat<f64>, r: &[f64], rank_cutoff: f64) -> Result<Self, MemError> {
         let j = s.ncols();
         if s.nrows() < j {
@@ -66,34 +62,10 @@ impl StepSolver {
         (delta, predicted)
     }
 
-    /// (SᵀS)⁺ from the decomposition: D⁻¹ V Σ⁻² Vᵀ D⁻¹ over the kept singular values.
-    pub fn normal_pseudo_inverse(&self) -> Mat<f64> {
-        let j = self.scale.len();
-        Mat::from_fn(j, j, |a, b| {
-            let sum: f64 = (0..self.rank)
-                .map(|i| self.v[(a, i)] * self.v[(b, i)] / self.singular_values[i].powi(2))
-                .sum();
-            sum / (self.scale[a] * self.scale[b])
-        })
-    }
-
     /// The largest diagonal entry of S̃ᵀS̃ (= 1 after equilibration unless a column is zero).
     pub fn max_scaled_diagonal(&self) -> f64 {
         self.singular_values.first().map_or(1.0, |s| s * s)
     }
-}
-
-/// The thin SVD of a tall m × j matrix (m ≥ j) as singular values (descending) and V (j × j),
-/// by the QR route of [`StepSolver`]: S = Q R̃ D, then the SVD of the j × j factor R̃ D.
-pub(crate) fn tall_svd(s: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>), MemError> {
-    let j = s.ncols();
-    if s.nrows() < j {
-        return Err(MemError::Shape(format!("{} rows cannot determine {j} parameters", s.nrows())));
-    }
-    let (r_scaled, _, scale) = householder_qr(s.to_owned(), &vec![0.0; s.nrows()]);
-    let r_factor = Mat::from_fn(j, j, |i, c| r_scaled[(i, c)] * scale[c]);
-    let svd = square_svd(r_factor.as_ref())?;
-    Ok((svd.singular_values, svd.v))
 }
 
 /// faer's SVD of the small j × j factor R: singular values (descending), U and V. Sequential,
@@ -196,20 +168,31 @@ fn householder_qr(mut s: Mat<f64>, r: &[f64]) -> (Mat<f64>, Vec<f64>, Vec<f64>) 
 mod tests {
     use super::*;
 
-    /// The QR route gives faer's thin SVD of the whole matrix (singular values to rounding,
-    /// right singular vectors up to sign), also with badly scaled columns.
+    /// The QR route gives faer's thin SVD of the column-equilibrated matrix (singular values to
+    /// rounding, right singular vectors up to sign), also with badly scaled columns, and the
+    /// step at μ = 0 is the least-squares solution.
     #[test]
-    fn tall_svd_matches_the_direct_thin_svd() {
+    fn qr_route_matches_the_direct_thin_svd_and_solves_least_squares() {
         let s = Mat::<f64>::from_fn(300, 3, |i, c| {
             ((7 * i + 3 * c) as f64 * 0.37).sin() * 10f64.powi(3 * c as i32)
         });
-        let (sv, v) = tall_svd(s.as_ref()).unwrap();
-        let direct = s.thin_svd().unwrap();
+        let r: Vec<f64> = (0..300).map(|i| (i as f64 * 0.11).cos()).collect();
+        let solver = StepSolver::from_owned(s.clone(), &r, 1e-12).unwrap();
+        let norms: Vec<f64> = (0..3).map(|c| s.col(c).norm_l2()).collect();
+        let equilibrated = Mat::from_fn(300, 3, |i, c| s[(i, c)] / norms[c]);
+        let direct = equilibrated.thin_svd().unwrap();
         for i in 0..3 {
-            // Rounding of O(u·σ_max) per singular value.
-            assert!((sv[i] - direct.S()[i]).abs() <= 1e-12 * direct.S()[0], "σ_{i}");
-            let dot: f64 = (0..3).map(|r| v[(r, i)] * direct.V()[(r, i)]).sum();
+            assert!((solver.singular_values[i] - direct.S()[i]).abs() <= 1e-12 * direct.S()[0], "σ_{i}");
+            let dot: f64 = (0..3).map(|row| solver.v[(row, i)] * direct.V()[(row, i)]).sum();
             assert!((dot.abs() - 1.0).abs() < 1e-9, "v_{i}");
+        }
+        // Normal equations hold at the least-squares step: Sᵀ(r − Sδ) = 0.
+        let (delta, _) = solver.step(0.0);
+        for c in 0..3 {
+            let g: f64 = (0..300)
+                .map(|i| s[(i, c)] * (r[i] - (0..3).map(|l| s[(i, l)] * delta[l]).sum::<f64>()))
+                .sum();
+            assert!(g.abs() < 1e-9 * norms[c], "gradient {c}: {g}");
         }
     }
 }

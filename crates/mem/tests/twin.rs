@@ -1,6 +1,6 @@
 //! Twin experiments: data simulated from known P, fitted from a perturbed start.
 
-use mem::{Experiment, Fit, LinearResponse, Termination};
+use mem::{Experiment, Fit, Interval, LinearResponse, Problem, Termination};
 use test_problems::{ModalFamily, SpringChain, simulate_measurement};
 
 #[test]
@@ -10,9 +10,9 @@ fn noise_free_twin_recovers_parameters_to_1e_8() {
     let truth = SpringChain::TRUE;
     let data = simulate_measurement(&model, &truth, 0.02, 400, 0.0, 0);
     let start = [truth[0] * 1.3, truth[1] * 0.7, truth[2] * 1.3];
-    let report =
-        Fit::new().with_tolerance(1e-12).unwrap().run(&[Experiment::new(&model, &data)], &start).unwrap();
-    assert_eq!(report.termination, Termination::Converged);
+    let problem = Problem::unnamed(vec![Experiment::new(&model, &data)], &start).unwrap();
+    let report = Fit::new().with_tolerance(1e-12).unwrap().run(&problem).unwrap();
+    assert_eq!(report.termination, Termination::Converged, "{report}");
     for (got, want) in report.parameters.iter().zip(truth) {
         assert!((got / want - 1.0).abs() < 1e-8, "{got} vs {want}");
     }
@@ -20,6 +20,13 @@ fn noise_free_twin_recovers_parameters_to_1e_8() {
     for w in report.error_history.windows(2) {
         assert!(w[1] < w[0]);
     }
+    // Noise-free: the residual left is the deterministic remainder of a 1e-10 parameter error,
+    // correlated (and said so); nothing else to warn about.
+    assert!(
+        report.warnings().iter().all(|w| matches!(w, mem::Warning::CorrelatedResiduals { .. })),
+        "{:?}",
+        report.warnings()
+    );
 }
 
 #[test]
@@ -30,8 +37,8 @@ fn noise_free_twin_on_modal_family() {
     let data = simulate_measurement(&model, &truth, 1.0 / 12.8, 400, 0.0, 0);
     let start: Vec<f64> =
         truth.iter().enumerate().map(|(i, v)| v * if i % 2 == 0 { 1.3 } else { 0.7 }).collect();
-    let report =
-        Fit::new().with_tolerance(1e-12).unwrap().run(&[Experiment::new(&model, &data)], &start).unwrap();
+    let problem = Problem::unnamed(vec![Experiment::new(&model, &data)], &start).unwrap();
+    let report = Fit::new().with_tolerance(1e-12).unwrap().run(&problem).unwrap();
     for (got, want) in report.parameters.iter().zip(&truth) {
         assert!((got / want - 1.0).abs() < 1e-8, "{got} vs {want}");
     }
@@ -47,12 +54,13 @@ fn confidence_intervals_cover_truth_at_the_nominal_rate() {
     let (mut covered, mut total) = (0, 0);
     for seed in 0..50 {
         let data = simulate_measurement(&model, &truth, 0.02, 400, 0.01, 1000 + seed);
-        let experiment = Experiment::normalized(&model, &data);
-        let report = Fit::new().run(&[experiment], &truth).unwrap();
+        let problem = Problem::unnamed(vec![Experiment::normalized(&model, &data)], &truth).unwrap();
+        let report = Fit::new().run(&problem).unwrap();
         assert_eq!(report.termination, Termination::Converged);
-        for (i, (lo, hi)) in report.statistics.ci95.iter().enumerate() {
+        for (i, interval) in report.statistics.intervals.iter().enumerate() {
+            assert!(matches!(interval, Interval::Symmetric { .. }));
             total += 1;
-            if *lo <= truth[i] && truth[i] <= *hi {
+            if interval.contains(truth[i]) {
                 covered += 1;
             }
         }
@@ -71,12 +79,11 @@ fn several_experiments_are_fitted_jointly() {
     let d1 = simulate_measurement(&m1, &truth, 0.02, 200, 0.0, 0);
     let d2 = simulate_measurement(&m2, &truth, 0.02, 300, 0.0, 0);
     let start = [30.0, 20.0, 0.4];
-    let report = Fit::new()
-        .with_tolerance(1e-12)
-        .unwrap()
-        .run(&[Experiment::new(&m1, &d1), Experiment::new(&m2, &d2)], &start)
-        .unwrap();
+    let problem =
+        Problem::unnamed(vec![Experiment::new(&m1, &d1), Experiment::new(&m2, &d2)], &start).unwrap();
+    let report = Fit::new().with_tolerance(1e-12).unwrap().run(&problem).unwrap();
     assert_eq!(report.n_residuals, 200 * 2 + 300 * 2);
+    assert_eq!(report.experiment_errors.len(), 2);
     for (got, want) in report.parameters.iter().zip(truth) {
         assert!((got / want - 1.0).abs() < 1e-8);
     }
@@ -86,10 +93,8 @@ fn several_experiments_are_fitted_jointly() {
 fn derivative_check_reports_small_mismatch() {
     let model = LinearResponse(SpringChain { x0: [0.0, 0.01] });
     let data = simulate_measurement(&model, &SpringChain::TRUE, 0.02, 300, 0.0, 0);
-    let report = Fit::new()
-        .with_derivative_check(true)
-        .run(&[Experiment::new(&model, &data)], &[35.0, 17.0, 0.35])
-        .unwrap();
+    let problem = Problem::unnamed(vec![Experiment::new(&model, &data)], &[35.0, 17.0, 0.35]).unwrap();
+    let report = Fit::new().run(&problem).unwrap();
     let check = report.derivative_check.unwrap();
     assert!(check.worst_relative_mismatch < 1e-6, "{check:?}");
 }

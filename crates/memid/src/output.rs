@@ -1,66 +1,73 @@
 //! Tables for the terminal and JSON documents (fields documented in docs/json.md).
 
 use discrepancy::FitOutcome;
-use mem::{FitReport, Termination};
+use mem::FitReport;
 use plant::{ModalRow, ModeKind};
 use serde_json::{Value, json};
 
-/// The termination reason as a stable word.
-pub fn termination(t: Termination) -> &'static str {
-    match t {
-        Termination::Converged => "converged",
-        Termination::Stagnated => "stagnated",
-        Termination::MaxIterations => "max_iterations",
-        Termination::Diverged => "diverged",
-    }
-}
-
-/// A fit as JSON.
+/// A fit as JSON: the report's own fields (docs/json.md), with a per-parameter summary and the
+/// warnings in words.
 pub fn fit_json(outcome: &FitOutcome, output_names: &[&str]) -> Value {
     let r = &outcome.report;
     let s = &r.statistics;
     let parameters: Vec<Value> = (0..r.parameters.len())
         .map(|i| {
+            let ci95 = match s.intervals[i] {
+                mem::Interval::Symmetric { lower, upper } => json!([lower, upper]),
+                _ => Value::Null,
+            };
             json!({
                 "name": r.names[i],
                 "initial": r.initial[i],
                 "final": r.parameters[i],
                 "change": r.parameters[i] - r.initial[i],
                 "std_error": s.std_errors[i],
-                "ci95": [s.ci95[i].0, s.ci95[i].1],
+                "ci95": ci95,
+                "interval": s.intervals[i],
+                "on_bound": r.on_bound[i],
             })
         })
         .collect();
-    let j = r.parameters.len();
-    json!({
-        "parameters": parameters,
-        "error_history": r.error_history,
-        "iterations": r.iterations,
-        "termination": termination(r.termination),
-        "n_residuals": r.n_residuals,
-        "rank": r.rank,
-        "rank_cutoff": r.rank_cutoff,
-        "singular_values": r.records.last().map(|rec| rec.singular_values.clone()).unwrap_or_default(),
-        "residual_variance": s.residual_variance,
-        "degrees_of_freedom": s.degrees_of_freedom,
-        "correlation": (0..j).map(|a| (0..j).map(|b| s.correlation[(a, b)]).collect::<Vec<_>>()).collect::<Vec<_>>(),
-        "weights": output_names.iter().zip(&outcome.weights).map(|(n, w)| json!({"output": n, "weight": w})).collect::<Vec<_>>(),
-        "identifiability": {
-            "relative_singular_values": r.identifiability.relative_singular_values,
-            "condition_number": finite_or_null(r.identifiability.condition_number),
-            "undetermined": r.identifiability.undetermined.iter().map(|c| json!({
-                "ratio": c.ratio, "direction": c.direction, "description": c.description,
-            })).collect::<Vec<_>>(),
-        },
-        "derivative_check": r.derivative_check.as_ref().map(|d| json!({
-            "worst_relative_mismatch": d.worst_relative_mismatch,
-            "per_parameter": d.per_parameter,
-        })),
-    })
-}
-
-fn finite_or_null(v: f64) -> Value {
-    if v.is_finite() { json!(v) } else { Value::Null }
+    let mut document = serde_json::to_value(r).unwrap_or(Value::Null);
+    if let Value::Object(map) = &mut document {
+        // `parameters` is the per-parameter table (docs/json.md); the bare vectors are in it.
+        for redundant in ["names", "initial", "parameters", "on_bound"] {
+            map.remove(redundant);
+        }
+        map.insert("parameters".into(), json!(parameters));
+        map.insert(
+            "weights".into(),
+            json!(
+                output_names
+                    .iter()
+                    .zip(&outcome.weights)
+                    .map(|(n, w)| json!({"output": n, "weight": w}))
+                    .collect::<Vec<_>>()
+            ),
+        );
+        map.insert(
+            "singular_values".into(),
+            json!(r.records.last().map(|rec| rec.singular_values.clone()).unwrap_or_default()),
+        );
+        map.insert(
+            "warnings".into(),
+            json!(
+                r.warnings
+                    .iter()
+                    .map(|w| {
+                        let mut v = serde_json::to_value(w).unwrap_or(Value::Null);
+                        if let Value::Object(m) = &mut v {
+                            m.insert("message".into(), json!(w.to_string()));
+                        }
+                        v
+                    })
+                    .collect::<Vec<_>>()
+            ),
+        );
+        // The records are in the report; the per-iteration parameters are rarely wanted in JSON.
+        map.remove("records");
+    }
+    document
 }
 
 /// Modal rows as JSON.
@@ -97,52 +104,9 @@ pub fn kind(k: ModeKind) -> String {
     }
 }
 
-/// The fit table in the spirit of the paper's Table 1.
+/// The fit table in the spirit of the paper's Table 1 (the report's own summary).
 pub fn fit_table(r: &FitReport) -> String {
-    let mut out = format!(
-        "{:<22} {:>13} {:>13} {:>13} {:>12}   {}\n",
-        "parameter", "initial", "final", "ΔP", "std. error", "95 % interval"
-    );
-    for i in 0..r.parameters.len() {
-        let (lo, hi) = r.statistics.ci95[i];
-        out += &format!(
-            "{:<22} {:>13.6} {:>13.6} {:>+13.6} {:>12.3e}   [{lo:.6}, {hi:.6}]\n",
-            r.names[i],
-            r.initial[i],
-            r.parameters[i],
-            r.parameters[i] - r.initial[i],
-            r.statistics.std_errors[i]
-        );
-    }
-    let (e0, e1) = r.error_change();
-    out += &format!("{:<22} {:>13.6} {:>13.6}\n", "‖Y_error‖ (Eq. 22)", e0, e1);
-    out += &format!(
-        "iterations {}, termination {}, rank {}/{} (cutoff {:.0e} of σ_max)\n",
-        r.iterations,
-        termination(r.termination),
-        r.rank,
-        r.parameters.len(),
-        r.rank_cutoff
-    );
-    if let Some(last) = r.records.last() {
-        out += &format!(
-            "singular values of the column-scaled S: {}\n",
-            last.singular_values.iter().map(|s| format!("{s:.3e}")).collect::<Vec<_>>().join(", ")
-        );
-    }
-    for c in &r.identifiability.undetermined {
-        out += &format!(
-            "not determined by the data: {} (relative singular value {:.1e})\n",
-            c.description, c.ratio
-        );
-    }
-    if let Some(d) = &r.derivative_check {
-        out += &format!(
-            "derivative check: worst relative mismatch of S vs central differences {:.2e}\n",
-            d.worst_relative_mismatch
-        );
-    }
-    out
+    r.to_string()
 }
 
 /// Closed-loop modes as a table (Table 2's columns).

@@ -144,6 +144,10 @@ def main():
         r = rng.standard_normal((n, n)) / np.sqrt(n)
         shift = np.max(np.linalg.eigvals(r).real) + 0.5
         cases.append(case(f"random_stable_{n}", r - shift * np.eye(n), direction(n)))
+    # Moler's 3×3 over-scaling example (Al-Mohy & Higham 2009a, §1; SciPy's test suite): ‖A‖₁ ≈ 2e10
+    # asks for ~35 squarings, but the powers decay and few are needed.
+    moler = [[0.0, 1e-8, 0.0], [-(2e10 + 4e8 / 6.0), -3.0, 2e10], [200.0 / 3.0, 0.0, -200.0 / 3.0]]
+    cases.append(case("moler_3x3_overscaling", moler, direction(3)))
     json.dump({"generator": "make_reference.py", "digits": 60, "cases": cases}, sys.stdout)
 
 

@@ -33,9 +33,9 @@ pub struct Args {
     /// Unit output weights (Eq. 22 exactly) instead of 1/RMS per output.
     #[arg(long)]
     unweighted: bool,
-    /// Compare the sensitivities with central finite differences after the fit.
+    /// Skip the check of the sensitivities against central differences at the start.
     #[arg(long)]
-    check_derivatives: bool,
+    no_derivative_check: bool,
     /// Iteration cap.
     #[arg(long, default_value_t = 100)]
     max_iterations: usize,
@@ -94,7 +94,9 @@ pub fn run(args: Args) -> Result<()> {
     let mut request = FitRequest::new(&free.iter().map(|s| s.as_str()).collect::<Vec<_>>());
     request.normalize = !args.unweighted;
     request.safeguard = if args.plain { Safeguard::None } else { Safeguard::LevenbergMarquardt };
-    request.check_derivatives = args.check_derivatives;
+    if args.no_derivative_check {
+        request.derivative_check = mem::DerivativeCheck::Skip;
+    }
     request.max_iterations = args.max_iterations;
     let quiet = args.json.is_some();
     let bar = spinner(&format!("fitting {}", free.join(", ")), quiet);

@@ -74,7 +74,7 @@ pub fn run(args: Args) -> Result<()> {
     let n = (args.duration * args.rate).floor() as usize + 1;
     let outputs = model.output_names();
     let levels = noise_levels(args.noise.as_deref(), &outputs)?;
-    let mut y = nonlinear::simulate_model(&model, h, n)?;
+    let mut y = models::simulate_model(&model, h, n)?;
     let mut rng = rand::rngs::StdRng::seed_from_u64(args.seed);
     for (o, std) in levels.iter().enumerate() {
         for k in 0..n {

@@ -1,0 +1,126 @@
+//! One experiment: a model, the record it must reproduce, output weights, quantized readings,
+//! and which of the shared parameters it sees.
+
+use crate::{Measurement, MemError, ResponseModel};
+
+/// One experiment: a model and the measurement it must reproduce, with output weights.
+pub struct Experiment<'a> {
+    /// The model (with this experiment's initial condition and sensors).
+    pub model: &'a (dyn ResponseModel + Sync),
+    /// The measured record.
+    pub data: &'a Measurement,
+    /// Weight per output (residuals are multiplied by it); see [`Measurement::rms_weights`].
+    pub weights: Vec<f64>,
+    /// Half-width of the reading's interval per output (0: an exact reading); see
+    /// [`Experiment::with_quantization`].
+    pub half_widths: Vec<f64>,
+    /// The positions in the problem's parameter vector of this model's parameters (None: the
+    /// model takes the whole vector). Several experiments share physical parameters and keep
+    /// their own, e.g. each its own initial state.
+    pub parameters: Option<Vec<usize>>,
+}
+
+impl<'a> Experiment<'a> {
+    /// An experiment with unit weights (the paper's Eq. 22 error).
+    pub fn new(model: &'a (dyn ResponseModel + Sync), data: &'a Measurement) -> Self {
+        Self {
+            model,
+            data,
+            weights: vec![1.0; data.n_outputs()],
+            half_widths: vec![0.0; data.n_outputs()],
+            parameters: None,
+        }
+    }
+
+    /// Uses weights 1/RMS(measured output), so outputs of different units count alike.
+    pub fn normalized(model: &'a (dyn ResponseModel + Sync), data: &'a Measurement) -> Self {
+        Self { weights: data.rms_weights(), ..Self::new(model, data) }
+    }
+
+    /// Declares quantized outputs: `steps[o] = Some(Δ)` means output o was read by a quantizer
+    /// of step Δ, so a reading y only says that the value lies in [y − Δ/2, y + Δ/2]. Its
+    /// residual is then the distance from the model's output to that interval,
+    /// r = sign(y − ŷ)·max(0, |y − ŷ| − Δ/2) — interval-censored least squares — and rows
+    /// inside the interval carry no sensitivity.
+    pub fn with_quantization(mut self, steps: &[Option<f64>]) -> Self {
+        self.half_widths = steps.iter().map(|s| s.map_or(0.0, |d| 0.5 * d)).collect();
+        self
+    }
+
+    /// The model's parameters are `indices` of the problem's parameter vector.
+    pub fn with_parameters(mut self, indices: Vec<usize>) -> Self {
+        self.parameters = Some(indices);
+        self
+    }
+
+    /// This experiment's parameters taken from the problem's vector `p`.
+    pub(crate) fn local(&self, p: &[f64]) -> Vec<f64> {
+        match &self.parameters {
+            Some(indices) => indices.iter().map(|i| p[*i]).collect(),
+            None => p.to_vec(),
+        }
+    }
+
+    /// The problem's column of local parameter i.
+    pub(crate) fn column(&self, i: usize) -> usize {
+        self.parameters.as_ref().map_or(i, |indices| indices[i])
+    }
+
+    /// Checks that model, data and weights fit together.
+    pub(crate) fn validate(&self, index: usize, n_params: usize) -> Result<(), MemError> {
+        let model_outputs = self.model.output_names();
+        if model_outputs != self.data.names() {
+            return Err(MemError::OutputNames {
+                experiment: index,
+                model: model_outputs,
+                data: self.data.names().to_vec(),
+            });
+        }
+        let model_inputs = self.model.input_names();
+        let data_inputs = self.data.inputs().map(|i| i.names().to_vec()).unwrap_or_default();
+        if model_inputs != data_inputs {
+            return Err(MemError::InputNames { experiment: index, model: model_inputs, data: data_inputs });
+        }
+        let local = match &self.parameters {
+            Some(indices) => {
+                for (k, i) in indices.iter().enumerate() {
+                    if *i >= n_params || indices[..k].contains(i) {
+                        return Err(MemError::Shape(format!(
+                            "experiment {index}: parameter index {i} is repeated or beyond the {n_params} parameters"
+                        )));
+                    }
+                }
+                indices.len()
+            }
+            None => n_params,
+        };
+        if self.model.n_params() != local {
+            return Err(MemError::Shape(format!(
+                "experiment {index}: the model has {} parameters, but it is given {local}",
+                self.model.n_params()
+            )));
+        }
+        if self.weights.len() != self.data.n_outputs()
+            || self.weights.iter().any(|w| !(w.is_finite() && *w >= 0.0))
+        {
+            return Err(MemError::Shape(format!(
+                "experiment {index}: need one finite weight ≥ 0 per output"
+            )));
+        }
+        if self.half_widths.len() != self.data.n_outputs()
+            || self.half_widths.iter().any(|w| !(w.is_finite() && *w >= 0.0))
+        {
+            return Err(MemError::Shape(format!(
+                "experiment {index}: need one finite quantization step ≥ 0 per output"
+            )));
+        }
+        if self.data.start() < 0.0 {
+            return Err(MemError::InvalidData(format!(
+                "experiment {index}: the record starts at t = {} s, before the model's t = 0 where its \
+                 initial state holds; shift the time column",
+                self.data.start()
+            )));
+        }
+        Ok(())
+    }
+}

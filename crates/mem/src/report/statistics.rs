@@ -1,0 +1,306 @@
+//! Parameter uncertainty that says what the data support.
+//!
+//! * **Covariance** of the least-squares estimate, as a sandwich over the free parameters:
+//!   Cov = G ᵀ Ω G with G = S(SᵀS)⁺ from the SVD of S ((SᵀS)⁻¹ is never formed) and Ω
+//!   block-diagonal over the output series (one output of one experiment): σ_s² I for
+//!   independent errors, σ_s² ρ_s^{|k−l|} for an AR(1) process. With equal σ_s and ρ = 0 this
+//!   is σ̂²(SᵀS)⁺. σ_s² = ‖r_s‖²/n_s·m/(m − rank) (the degrees of freedom shared out), ρ_s the
+//!   series' lag-one autocorrelation. Ω g is applied in O(n) by a forward and a backward pass.
+//! * **Intervals**: P ± t_{0.975, m−rank}·σ for a determined parameter; **none** for a
+//!   parameter in an undetermined combination (its standard error is infinite: `None`); for a
+//!   parameter held on a bound, a **one-sided** 95 % profile-likelihood interval from the bound
+//!   into the box, from the linearised profile Δ(d) = −2g d + e d² (g = s_iᵀr, e = ‖(I − H)s_i‖²,
+//!   H the projection on the other free columns) against σ̂²·χ²₁(0.90) = σ̂²·2.706 (the boundary
+//!   case's ½χ²₀ + ½χ²₁ law).
+
+use super::Side;
+use crate::evaluate::{Evaluation, RowLayout};
+use crate::fit::{Covariance, Fit, columns};
+use crate::solve::StepSolver;
+use crate::stats::{lag_one, ljung_box, t_quantile_975};
+use crate::{MemError, Problem};
+use faer::Mat;
+use serde::Serialize;
+
+/// Ljung–Box p-value below which a residual series counts as correlated.
+pub(crate) const WHITENESS_LEVEL: f64 = 0.01;
+/// χ²₁ at 0.90: the 95 % one-sided profile-likelihood threshold at a boundary.
+const ONE_SIDED_95: f64 = 2.705_543_454_095_404;
+
+/// A parameter's 95 % interval.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Interval {
+    /// P ± t·σ.
+    Symmetric {
+        /// Lower end.
+        lower: f64,
+        /// Upper end.
+        upper: f64,
+    },
+    /// From a bound the parameter is held on into the box.
+    OneSided {
+        /// Lower end.
+        lower: f64,
+        /// Upper end.
+        upper: f64,
+    },
+    /// The data do not determine the parameter: no interval.
+    Undetermined,
+}
+
+impl Interval {
+    /// Whether `value` lies in the interval (never, when undetermined).
+    pub fn contains(&self, value: f64) -> bool {
+        match self {
+            Interval::Symmetric { lower, upper } | Interval::OneSided { lower, upper } => {
+                *lower <= value && value <= *upper
+            }
+            Interval::Undetermined => false,
+        }
+    }
+}
+
+/// The noise of one output series as the residuals show it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SeriesNoise {
+    /// Experiment index.
+    pub experiment: usize,
+    /// Output name.
+    pub output: String,
+    /// σ_s of the weighted residual.
+    pub sigma: f64,
+    /// Lag-one autocorrelation.
+    pub rho: f64,
+    /// Ljung–Box p-value (lags 1–20).
+    pub p_value: f64,
+}
+
+/// Parameter uncertainty from the final S and the residuals.
+#[derive(Clone, Debug, Serialize)]
+pub struct Statistics {
+    /// The covariance that was used (White or Ar1; Auto is resolved).
+    pub covariance_kind: Covariance,
+    /// σ̂² = ‖E‖²/(m − rank).
+    pub residual_variance: f64,
+    /// Degrees of freedom m − rank.
+    pub degrees_of_freedom: usize,
+    /// The covariance (j × j; rows and columns of undetermined or bound parameters are NaN).
+    #[serde(serialize_with = "matrix")]
+    pub covariance: Mat<f64>,
+    /// √diag(covariance); None where the data do not determine the parameter or it is held on
+    /// a bound.
+    pub std_errors: Vec<Option<f64>>,
+    /// 95 % intervals.
+    pub intervals: Vec<Interval>,
+    /// Correlation matrix (NaN where undefined).
+    #[serde(serialize_with = "matrix")]
+    pub correlation: Mat<f64>,
+    /// The noise of each output series.
+    pub series: Vec<SeriesNoise>,
+}
+
+fn matrix<S: serde::Serializer>(m: &Mat<f64>, serializer: S) -> Result<S::Ok, S::Error> {
+    use serde::ser::SerializeSeq;
+    let mut seq = serializer.serialize_seq(Some(m.nrows()))?;
+    for i in 0..m.nrows() {
+        let row: Vec<Option<f64>> =
+            (0..m.ncols()).map(|j| Some(m[(i, j)]).filter(|v| v.is_finite())).collect();
+        seq.serialize_element(&row)?;
+    }
+    seq.end()
+}
+
+/// y = R(ρ) g for R_kl = ρ^{|k−l|}: forward and backward exponential sums, O(n).
+fn ar1_apply(g: &[f64], rho: f64) -> Vec<f64> {
+    let n = g.len();
+    let mut forward = vec![0.0; n];
+    let mut backward = vec![0.0; n];
+    for k in 0..n {
+        forward[k] = g[k] + if k > 0 { rho * forward[k - 1] } else { 0.0 };
+    }
+    for k in (0..n).rev() {
+        backward[k] = g[k] + if k + 1 < n { rho * backward[k + 1] } else { 0.0 };
+    }
+    (0..n).map(|k| forward[k] + backward[k] - g[k]).collect()
+}
+
+/// The statistics of the final point and the per-series noise.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn analyse(
+    fit: &Fit,
+    problem: &Problem<'_>,
+    p: &[f64],
+    last: &Evaluation,
+    layout: &RowLayout,
+    free: &[usize],
+    solver: Option<&StepSolver>,
+    on_bound: &[Option<Side>],
+    undetermined: &[bool],
+) -> Result<(Statistics, Vec<SeriesNoise>), MemError> {
+    let j = p.len();
+    let m = last.residual.len();
+    let rank = solver.map_or(0, |s| s.rank);
+    let dof = m.saturating_sub(rank);
+    let variance = if dof > 0 { last.cost / dof as f64 } else { f64::NAN };
+    let share = if dof > 0 { m as f64 / dof as f64 } else { f64::NAN };
+    let series: Vec<(usize, usize, Vec<usize>)> = layout.series().collect();
+    let mut noise: Vec<SeriesNoise> = series
+        .iter()
+        .map(|(e, o, rows)| {
+            let r: Vec<f64> = rows.iter().map(|&k| last.residual[k]).collect();
+            let power = r.iter().map(|v| v * v).sum::<f64>();
+            SeriesNoise {
+                experiment: *e,
+                output: problem.experiments[*e].data.names()[*o].clone(),
+                sigma: (power / r.len().max(1) as f64 * share).sqrt(),
+                rho: lag_one(&r),
+                p_value: ljung_box(&r, 20.min(r.len() / 5)).1,
+            }
+        })
+        .collect();
+    let kind = match fit.covariance {
+        Covariance::Auto if noise.iter().any(|s| s.p_value < WHITENESS_LEVEL) => Covariance::Ar1,
+        Covariance::Auto => Covariance::White,
+        other => other,
+    };
+    if kind == Covariance::White {
+        noise.iter_mut().for_each(|s| s.rho = s.rho.min(0.99));
+    }
+    let mut covariance = Mat::<f64>::from_fn(j, j, |_, _| f64::NAN);
+    if let Some(solver) = solver {
+        // (SᵀS)⁺ over the kept, determined directions: D⁻¹ V Σ⁻² Vᵀ D⁻¹.
+        let cutoff = fit.identifiability_threshold.max(fit.rank_cutoff)
+            * solver.singular_values.first().copied().unwrap_or(0.0);
+        let kept: Vec<usize> = (0..solver.rank).filter(|&d| solver.singular_values[d] > cutoff).collect();
+        let f = free.len();
+        let pinv = Mat::from_fn(f, f, |a, b| {
+            let sum: f64 = kept
+                .iter()
+                .map(|&d| solver.v[(a, d)] * solver.v[(b, d)] / solver.singular_values[d].powi(2))
+                .sum();
+            sum / (solver.scale[a] * solver.scale[b])
+        });
+        let s_free = columns(&last.sensitivity, free);
+        let g = &s_free * &pinv; // m × f
+        let mut inner = Mat::<f64>::zeros(f, f);
+        for ((_, _, rows), s) in series.iter().zip(&noise) {
+            let rho = if kind == Covariance::Ar1 { s.rho } else { 0.0 };
+            let blocks: Vec<Vec<f64>> = (0..f).map(|a| rows.iter().map(|&k| g[(k, a)]).collect()).collect();
+            let applied: Vec<Vec<f64>> =
+                blocks.iter().map(|b| if rho == 0.0 { b.clone() } else { ar1_apply(b, rho) }).collect();
+            for a in 0..f {
+                for b in 0..f {
+                    let v: f64 = blocks[a].iter().zip(&applied[b]).map(|(x, y)| x * y).sum();
+                    inner[(a, b)] += s.sigma * s.sigma * v;
+                }
+            }
+        }
+        for (a, &ia) in free.iter().enumerate() {
+            for (b, &ib) in free.iter().enumerate() {
+                covariance[(ia, ib)] = inner[(a, b)];
+            }
+        }
+    }
+    let t = t_quantile_975(dof);
+    let mut std_errors = Vec::with_capacity(j);
+    let mut intervals = Vec::with_capacity(j);
+    for i in 0..j {
+        if let Some(side) = on_bound[i] {
+            std_errors.push(None);
+            intervals.push(one_sided(last, free, i, side, p[i], variance, fit.rank_cutoff)?);
+        } else if undetermined[i] || !covariance[(i, i)].is_finite() {
+            std_errors.push(None);
+            intervals.push(Interval::Undetermined);
+        } else {
+            let se = covariance[(i, i)].max(0.0).sqrt();
+            std_errors.push(Some(se));
+            intervals.push(Interval::Symmetric { lower: p[i] - t * se, upper: p[i] + t * se });
+        }
+    }
+    for i in 0..j {
+        if std_errors[i].is_none() {
+            for l in 0..j {
+                covariance[(i, l)] = f64::NAN;
+                covariance[(l, i)] = f64::NAN;
+            }
+        }
+    }
+    let correlation = Mat::from_fn(j, j, |a, b| match (std_errors[a], std_errors[b]) {
+        (Some(x), Some(y)) if x > 0.0 && y > 0.0 => covariance[(a, b)] / (x * y),
+        (Some(_), Some(_)) if a == b => 1.0,
+        _ => f64::NAN,
+    });
+    let statistics = Statistics {
+        covariance_kind: kind,
+        residual_variance: variance,
+        degrees_of_freedom: dof,
+        covariance,
+        std_errors,
+        intervals,
+        correlation,
+        series: noise.clone(),
+    };
+    Ok((statistics, noise))
+}
+
+/// ‖(I − H)s_i‖², s_iᵀr for the column i against the free columns.
+fn profile_terms(last: &Evaluation, free: &[usize], i: usize, cutoff: f64) -> Result<(f64, f64), MemError> {
+    let s_i: Vec<f64> = (0..last.sensitivity.nrows()).map(|k| last.sensitivity[(k, i)]).collect();
+    let power: f64 = s_i.iter().map(|v| v * v).sum();
+    let g: f64 = s_i.iter().zip(&last.residual).map(|(a, b)| a * b).sum();
+    if free.is_empty() {
+        return Ok((power, g));
+    }
+    let explained = StepSolver::from_owned(columns(&last.sensitivity, free), &s_i, cutoff)?.step(0.0).1;
+    Ok(((power - explained).max(0.0), g))
+}
+
+/// The one-sided interval of a parameter held on a bound (module docs).
+fn one_sided(
+    last: &Evaluation,
+    free: &[usize],
+    i: usize,
+    side: Side,
+    bound: f64,
+    variance: f64,
+    cutoff: f64,
+) -> Result<Interval, MemError> {
+    let (e, g) = profile_terms(last, free, i, cutoff)?;
+    // Moving d into the box (d > 0): Δ = 2|g| d + e d² (the data pull outward, so the linear
+    // term raises the cost inward).
+    let a = 2.0 * g.abs();
+    let threshold = ONE_SIDED_95 * variance;
+    let d = if e > 0.0 {
+        (-a + (a * a + 4.0 * e * threshold).sqrt()) / (2.0 * e)
+    } else if a > 0.0 {
+        threshold / a
+    } else {
+        f64::INFINITY
+    };
+    Ok(match side {
+        Side::Lower => Interval::OneSided { lower: bound, upper: bound + d },
+        Side::Upper => Interval::OneSided { lower: bound - d, upper: bound },
+    })
+}
+
+/// The fraction of the error the linear model predicts would go if parameter i (held on a
+/// bound) were freed along with the free ones.
+pub(crate) fn release_gain(
+    last: &Evaluation,
+    free: &[usize],
+    i: usize,
+    cutoff: f64,
+) -> Result<f64, MemError> {
+    let mut with = free.to_vec();
+    with.push(i);
+    with.sort_unstable();
+    let released =
+        StepSolver::from_owned(columns(&last.sensitivity, &with), &last.residual, cutoff)?.step(0.0).1;
+    let held = if free.is_empty() {
+        0.0
+    } else {
+        StepSolver::from_owned(columns(&last.sensitivity, free), &last.residual, cutoff)?.step(0.0).1
+    };
+    Ok(if last.cost > 0.0 { ((released - held) / last.cost).clamp(0.0, 1.0) } else { 0.0 })
+}

@@ -1,0 +1,48 @@
+//! # models — model descriptions as `mem` models (the adapter layer)
+//!
+//! `mem` fits any model that gives outputs and sensitivities; `plant` describes the slewing rig
+//! of Garcia & Inman (Eqs. 17–21) and knows nothing of identification. This crate is the one
+//! place where a description becomes something `mem` can fit, simulate or analyse:
+//!
+//! * [`slewing`]: a linear slewing model's free parameters as the MEM's P, with A(P), C(P)
+//!   and their exact derivatives from the plant's num-dual assembly — the exact exponential path
+//!   (paper Eq. 9);
+//! * [`ode`]: a slewing model with nonlinear effects (saturation, dry friction, drag), whose
+//!   outputs and sensitivities come from the forward sensitivity equations integrated by diffsol,
+//!   with exact Jacobian products in num-dual;
+//! * [`simulate`]: a model's response, by whichever path it needs;
+//! * [`fit`]: fitting a model to a measured record (aligning its columns, weighting, the
+//!   quantized readings of its sensors), with the curves around the fit.
+
+pub mod fit;
+pub mod ode;
+pub mod simulate;
+pub mod slewing;
+
+pub use fit::{FitOutcome, FitRequest, align, fit, response_model};
+pub use ode::{NonlinearError, NonlinearResponse};
+pub use simulate::{simulate, simulate_model, simulate_sensors};
+pub use slewing::SlewingFitModel;
+
+/// What can go wrong between a model description and `mem`.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ModelError {
+    /// The plant rejected something.
+    #[error(transparent)]
+    Plant(#[from] plant::PlantError),
+    /// The identification failed.
+    #[error(transparent)]
+    Mem(#[from] mem::MemError),
+    /// A simulation failed.
+    #[error(transparent)]
+    Simulation(#[from] NonlinearError),
+    /// The data's columns are not the model's outputs.
+    #[error("the data columns {data:?} do not match the model's outputs {model:?}")]
+    Columns {
+        /// Columns of the data (after the time column).
+        data: Vec<String>,
+        /// Outputs of the model.
+        model: Vec<String>,
+    },
+}
