@@ -274,15 +274,16 @@ pub(crate) fn finish(
     let on_bound: Vec<Option<Side>> = (0..j)
         .map(|i| active_side(problem, &p, &last, i).map(|s| if s < 0 { Side::Lower } else { Side::Upper }))
         .collect();
+    // Uncertainty and identifiability use every column, also those held on a bound: a free
+    // parameter correlated with a held one must carry the held one's local uncertainty (its
+    // interval conditional on the bound would be too narrow).
+    let all: Vec<usize> = (0..j).collect();
     let free: Vec<usize> = (0..j).filter(|&i| on_bound[i].is_none()).collect();
-    let solver = if free.is_empty() {
-        None
-    } else {
-        Some(StepSolver::from_owned(columns(&last.sensitivity, &free), &last.residual, fit.rank_cutoff)?)
-    };
+    let solver =
+        Some(StepSolver::from_owned(columns(&last.sensitivity, &all), &last.residual, fit.rank_cutoff)?);
     let layout = RowLayout::of(problem);
     let identifiability =
-        identifiability::analyse(problem, &p, &free, solver.as_ref(), fit.identifiability_threshold);
+        identifiability::analyse(problem, &p, &all, solver.as_ref(), fit.identifiability_threshold);
     let undetermined: Vec<bool> =
         (0..j).map(|i| identifiability.undetermined.iter().any(|c| c.involves(i))).collect();
     let rank = solver.as_ref().map_or(0, |s| s.rank);
@@ -292,7 +293,7 @@ pub(crate) fn finish(
         &p,
         &last,
         &layout,
-        &free,
+        &all,
         solver.as_ref(),
         &on_bound,
         &undetermined,

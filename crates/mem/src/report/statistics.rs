@@ -208,7 +208,8 @@ pub(crate) fn analyse(
     for i in 0..j {
         if let Some(side) = on_bound[i] {
             std_errors.push(None);
-            intervals.push(one_sided(last, free, i, side, p[i], variance, fit.rank_cutoff)?);
+            let others: Vec<usize> = free.iter().copied().filter(|&l| l != i).collect();
+            intervals.push(one_sided(last, &others, i, side, p[i], variance, fit.rank_cutoff)?);
         } else if undetermined[i] || !covariance[(i, i)].is_finite() {
             std_errors.push(None);
             intervals.push(Interval::Undetermined);

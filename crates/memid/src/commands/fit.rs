@@ -36,6 +36,10 @@ pub struct Args {
     /// Skip the check of the sensitivities against central differences at the start.
     #[arg(long)]
     no_derivative_check: bool,
+    /// The covariance of the intervals: `auto` (white noise unless the residuals are
+    /// correlated, then AR(1)), `white`, or `ar1`.
+    #[arg(long, value_enum, default_value_t = CovarianceArg::Auto)]
+    covariance: CovarianceArg,
     /// Iteration cap.
     #[arg(long, default_value_t = 100)]
     max_iterations: usize,
@@ -48,6 +52,27 @@ pub struct Args {
     /// Write the fitted model as a new RON file.
     #[arg(short = 'o', long = "output")]
     output: Option<PathBuf>,
+}
+
+/// `--covariance`.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum CovarianceArg {
+    /// White noise per output unless the residuals fail a whiteness test, then AR(1).
+    Auto,
+    /// Independent errors, one variance per output.
+    White,
+    /// An AR(1) sandwich per output.
+    Ar1,
+}
+
+impl From<CovarianceArg> for mem::Covariance {
+    fn from(c: CovarianceArg) -> Self {
+        match c {
+            CovarianceArg::Auto => mem::Covariance::Auto,
+            CovarianceArg::White => mem::Covariance::White,
+            CovarianceArg::Ar1 => mem::Covariance::Ar1,
+        }
+    }
 }
 
 /// Restricts model and data to `outputs` (if given) and decimates the data.
@@ -98,6 +123,7 @@ pub fn run(args: Args) -> Result<()> {
         request.derivative_check = mem::DerivativeCheck::Skip;
     }
     request.max_iterations = args.max_iterations;
+    request.covariance = args.covariance.into();
     let quiet = args.json.is_some();
     let bar = spinner(&format!("fitting {}", free.join(", ")), quiet);
     let outcome = fit(&model, &data, &request)?;
