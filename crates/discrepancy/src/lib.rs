@@ -47,3 +47,16 @@ pub enum WorkflowError {
     #[error(transparent)]
     Era(#[from] era::EraError),
 }
+
+/// The names of the catalog's effects (what `--only` accepts).
+pub fn catalog_names() -> Vec<&'static str> {
+    vec![
+        "amplifier_saturation",
+        "coulomb_friction",
+        "quadratic_drag",
+        "sensor_quantization",
+        "output_offset",
+        "time_delay",
+        "unmodeled_mode",
+    ]
+}

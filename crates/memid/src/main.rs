@@ -15,7 +15,7 @@ use std::process::ExitCode;
 
 /// memid — identification of system parameters by the matrix exponential method.
 #[derive(Parser)]
-#[command(name = "memid", version, about)]
+#[command(name = "memid", version, about, allow_negative_numbers = true)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -39,8 +39,46 @@ enum Command {
     Diagnose(commands::diagnose::Args),
 }
 
+/// The short usage printed when no command is given.
+const USAGE: &str = "usage: memid <simulate|fit|modal|era|model|demo|diagnose> [options]; `memid --help` lists them, `memid <command> --help` explains one";
+
+/// One line for an error chain.
+fn one_line(e: &anyhow::Error) -> String {
+    format!("{e:#}").split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    io::install_signal_cleanup();
+    if std::env::args_os().len() <= 1 {
+        eprintln!("{USAGE}");
+        return ExitCode::from(2);
+    }
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            return match e.kind() {
+                ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+                    match io::print(&e.render().to_string()) {
+                        Err(e) if e.downcast_ref::<io::BrokenPipe>().is_none() => ExitCode::from(2),
+                        _ => ExitCode::SUCCESS,
+                    }
+                }
+                ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand | ErrorKind::MissingSubcommand => {
+                    eprintln!("{USAGE}");
+                    ExitCode::from(2)
+                }
+                _ => {
+                    // clap's own message, on one line, without its usage block.
+                    let text = e.render().to_string();
+                    let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("invalid arguments");
+                    let first = first.trim_start_matches("error: ").trim();
+                    eprintln!("memid: error: {first} (see `memid --help`)");
+                    ExitCode::from(2)
+                }
+            };
+        }
+    };
     let result = match cli.command {
         Command::Simulate(a) => commands::simulate::run(a),
         Command::Fit(a) => commands::fit::run(a),
@@ -52,8 +90,10 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        // The reader of standard output went away: end quietly, as Unix tools do.
+        Err(e) if e.downcast_ref::<io::BrokenPipe>().is_some() => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("memid: error: {}", format!("{e:#}").replace('\n', " "));
+            eprintln!("memid: error: {}", one_line(&e));
             ExitCode::from(2)
         }
     }

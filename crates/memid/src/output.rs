@@ -137,3 +137,12 @@ pub fn era_table(result: &era::EraResult) -> String {
     }
     out
 }
+
+/// Fails if JSON text holds a `null` where a number was written (serde_json writes NaN and
+/// infinities as null): a non-finite result must be an error, never an output.
+pub fn ensure_finite_json(text: &str, what: &str) -> anyhow::Result<()> {
+    if text.contains("null") {
+        anyhow::bail!("{what} hold non-finite values (an overflow); check the model's values");
+    }
+    Ok(())
+}

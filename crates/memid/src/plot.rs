@@ -4,7 +4,7 @@
 use anyhow::{Result, anyhow};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Once;
 
 static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
@@ -42,26 +42,40 @@ pub const COLORS: [RGBColor; 4] =
 const WIDTH: u32 = 960;
 const PANEL_HEIGHT: u32 = 260;
 
-/// Writes `<stem>.svg` and `<stem>.png` (each whole or not at all) and returns their paths.
-pub fn figure(stem: &Path, title: &str, x_label: &str, panels: &[Panel]) -> Result<Vec<PathBuf>> {
-    register_font();
-    let size = (WIDTH, 60 + PANEL_HEIGHT * panels.len() as u32);
-    let svg_path = stem.with_extension("svg");
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-        draw(root, title, x_label, panels).map_err(|e| anyhow!("drawing {}: {e}", svg_path.display()))?;
+/// A figure to draw: stacked panels of lines.
+pub struct Figure {
+    /// Title.
+    pub title: String,
+    /// X-axis label.
+    pub x_label: String,
+    /// Panels, top to bottom.
+    pub panels: Vec<Panel>,
+}
+
+impl Figure {
+    fn size(&self) -> (u32, u32) {
+        (WIDTH, 60 + PANEL_HEIGHT * self.panels.len() as u32)
     }
-    crate::io::write_atomic(&svg_path, svg.as_bytes())?;
-    let png_path = stem.with_extension("png");
-    // The encoder picks the format from the extension, so the temporary name ends in .png.
-    let tmp = stem.with_extension(format!("tmp-{}.png", std::process::id()));
-    {
-        let root = BitMapBackend::new(&tmp, size).into_drawing_area();
-        draw(root, title, x_label, panels).map_err(|e| anyhow!("drawing {}: {e}", png_path.display()))?;
+
+    /// The figure as SVG text.
+    pub fn svg(&self) -> Result<Vec<u8>> {
+        register_font();
+        let mut svg = String::new();
+        {
+            let root = SVGBackend::with_string(&mut svg, self.size()).into_drawing_area();
+            draw(root, &self.title, &self.x_label, &self.panels)
+                .map_err(|e| anyhow!("drawing {}: {e}", self.title))?;
+        }
+        Ok(svg.into_bytes())
     }
-    std::fs::rename(&tmp, &png_path)?;
-    Ok(vec![svg_path, png_path])
+
+    /// Draws the figure as PNG into `path` (the encoder picks the format from its extension).
+    pub fn png(&self, path: &Path) -> Result<()> {
+        register_font();
+        let root = BitMapBackend::new(path, self.size()).into_drawing_area();
+        draw(root, &self.title, &self.x_label, &self.panels)
+            .map_err(|e| anyhow!("drawing {}: {e}", path.display()))
+    }
 }
 
 fn draw<DB: DrawingBackend>(

@@ -1,24 +1,34 @@
-//! Report directories: figures (SVG + PNG), report.md embedding them, and JSON.
+//! Report directories: figures (SVG + PNG), report.md embedding them, and JSON — staged with
+//! the command's other outputs, so that the report is written whole or not at all and never
+//! over an input.
 
-use crate::plot::{COLORS, Panel, Series, figure};
+use crate::io::{Outputs, Target};
+use crate::plot::{COLORS, Figure, Panel, Series};
 use anyhow::Result;
-use discrepancy::FitOutcome;
 use faer::Mat;
 use mem::Measurement;
+use models::FitOutcome;
 use std::path::{Path, PathBuf};
 
-/// A report being assembled in a directory.
+/// One file the report will hold.
+enum Pending {
+    Bytes(String, Vec<u8>),
+    Figure(String, Figure),
+}
+
+/// A report being assembled for a directory.
 pub struct Report {
     dir: PathBuf,
     markdown: String,
+    pending: Vec<Pending>,
 }
 
-fn unit(name: &str) -> &'static str {
+fn unit(name: &str) -> String {
     match name {
-        "theta" => "θ [rad]",
-        "theta_dot" => "θ̇ [rad/s]",
-        "strain" => "strain [µε]",
-        _ => "output",
+        "theta" => "θ [rad]".into(),
+        "theta_dot" => "θ̇ [rad/s]".into(),
+        "strain" => "strain [µε]".into(),
+        other => other.to_string(),
     }
 }
 
@@ -31,10 +41,9 @@ fn series(label: &str, times: &[f64], values: &Mat<f64>, column: usize, color: u
 }
 
 impl Report {
-    /// Starts a report in `dir` (created if needed).
-    pub fn new(dir: &Path, title: &str) -> Result<Self> {
-        std::fs::create_dir_all(dir)?;
-        Ok(Self { dir: dir.to_path_buf(), markdown: format!("# {title}\n\n") })
+    /// Starts a report for `dir` (nothing is written until [`Report::stage`]).
+    pub fn new(dir: &Path, title: &str) -> Self {
+        Self { dir: dir.to_path_buf(), markdown: format!("# {title}\n\n"), pending: Vec::new() }
     }
 
     /// Appends markdown text.
@@ -43,30 +52,29 @@ impl Report {
         self.markdown += "\n";
     }
 
-    fn embed(&mut self, stem: &str, caption: &str) {
+    fn figure(&mut self, stem: &str, caption: &str, figure: Figure) {
         self.markdown += &format!("![{caption}]({stem}.png)\n\n*{caption}* ([SVG]({stem}.svg))\n\n");
+        self.pending.push(Pending::Figure(stem.to_string(), figure));
     }
 
     /// The measured time histories (paper Fig. 3).
-    pub fn measured(&mut self, stem: &str, caption: &str, data: &Measurement) -> Result<()> {
+    pub fn measured(&mut self, stem: &str, caption: &str, data: &Measurement) {
         let times = data.times();
         let panels = (0..data.n_outputs())
             .map(|o| Panel {
-                y_label: unit(&data.names()[o]).into(),
+                y_label: unit(&data.names()[o]),
                 series: vec![series("measured", &times, data.values(), o, 0)],
             })
             .collect::<Vec<_>>();
-        figure(&self.dir.join(stem), caption, "t [s]", &panels)?;
-        self.embed(stem, caption);
-        Ok(())
+        self.figure(stem, caption, Figure { title: caption.to_string(), x_label: "t [s]".into(), panels });
     }
 
     /// Measurement vs initial vs final model (Fig. 4), convergence (Fig. 5) and residuals.
-    pub fn fit(&mut self, name: &str, caption: &str, data: &Measurement, outcome: &FitOutcome) -> Result<()> {
+    pub fn fit(&mut self, name: &str, caption: &str, data: &Measurement, outcome: &FitOutcome) {
         let times = data.times();
         let panels = (0..data.n_outputs())
             .map(|o| Panel {
-                y_label: unit(&data.names()[o]).into(),
+                y_label: unit(&data.names()[o]),
                 series: vec![
                     series("measured", &times, data.values(), o, 0),
                     series("initial model", &times, &outcome.initial_outputs, o, 1),
@@ -74,14 +82,12 @@ impl Report {
                 ],
             })
             .collect::<Vec<_>>();
-        let stem = format!("{name}_fit");
-        figure(
-            &self.dir.join(&stem),
-            &format!("{caption}: measurement, initial and final model"),
-            "t [s]",
-            &panels,
-        )?;
-        self.embed(&stem, &format!("{caption}: measurement, initial and final model"));
+        let title = format!("{caption}: measurement, initial and final model");
+        self.figure(
+            &format!("{name}_fit"),
+            &title,
+            Figure { title: title.clone(), x_label: "t [s]".into(), panels },
+        );
         let history = &outcome.report.error_history;
         let convergence = Panel {
             y_label: "log10 ‖Y_error‖".into(),
@@ -95,31 +101,52 @@ impl Report {
                 color: COLORS[2],
             }],
         };
-        let stem = format!("{name}_convergence");
-        figure(&self.dir.join(&stem), &format!("{caption}: convergence"), "iteration", &[convergence])?;
-        self.embed(&stem, &format!("{caption}: convergence of the error"));
+        self.figure(
+            &format!("{name}_convergence"),
+            &format!("{caption}: convergence of the error"),
+            Figure {
+                title: format!("{caption}: convergence"),
+                x_label: "iteration".into(),
+                panels: vec![convergence],
+            },
+        );
         let residual = outcome.residual(data);
         let panels = (0..data.n_outputs())
             .map(|o| Panel {
-                y_label: unit(&data.names()[o]).into(),
+                y_label: unit(&data.names()[o]),
                 series: vec![series("measured − final model", &times, &residual, o, 3)],
             })
             .collect::<Vec<_>>();
-        let stem = format!("{name}_residuals");
-        figure(&self.dir.join(&stem), &format!("{caption}: residuals"), "t [s]", &panels)?;
-        self.embed(&stem, &format!("{caption}: residuals of the final model"));
+        self.figure(
+            &format!("{name}_residuals"),
+            &format!("{caption}: residuals of the final model"),
+            Figure { title: format!("{caption}: residuals"), x_label: "t [s]".into(), panels },
+        );
+    }
+
+    /// Adds a JSON document.
+    pub fn json(&mut self, file: &str, value: &serde_json::Value) -> Result<()> {
+        self.pending
+            .push(Pending::Bytes(file.to_string(), serde_json::to_string_pretty(value)?.into_bytes()));
         Ok(())
     }
 
-    /// Writes a JSON document into the directory.
-    pub fn json(&self, file: &str, value: &serde_json::Value) -> Result<()> {
-        crate::io::write_atomic(&self.dir.join(file), serde_json::to_string_pretty(value)?.as_bytes())
-    }
-
-    /// Writes report.md and returns its path.
-    pub fn finish(self) -> Result<PathBuf> {
+    /// Stages every file (report.md last) with the command's other outputs and returns the
+    /// path of report.md.
+    pub fn stage(self, outputs: &mut Outputs<'_>) -> Result<PathBuf> {
+        outputs.check_directory(&self.dir)?;
+        for item in self.pending {
+            match item {
+                Pending::Bytes(name, bytes) => outputs.stage(&Target::File(self.dir.join(name)), bytes)?,
+                Pending::Figure(stem, figure) => {
+                    outputs.stage(&Target::File(self.dir.join(format!("{stem}.svg"))), figure.svg()?)?;
+                    outputs
+                        .stage_file(&self.dir.join(format!("{stem}.png")), ".png", |tmp| figure.png(tmp))?;
+                }
+            }
+        }
         let path = self.dir.join("report.md");
-        crate::io::write_atomic(&path, self.markdown.as_bytes())?;
+        outputs.stage(&Target::File(path.clone()), self.markdown.into_bytes())?;
         Ok(path)
     }
 }

@@ -227,7 +227,7 @@ fn bad_inputs_give_one_line_and_status_2() {
     assert_bad(&fit(&malformed), "malformed.csv:3");
     let uneven =
         csv("uneven.csv", "t,theta,theta_dot,strain\n0,0.5,0,0\n0.1,0.45,0,0\n0.25,0.4,0,0\n0.3,0.3,0,0\n");
-    assert_bad(&fit(&uneven), "uneven.csv:4: time is not uniformly sampled");
+    assert_bad(&fit(&uneven), "uneven.csv:4:1: time is not uniformly sampled");
     let backwards = csv("backwards.csv", "t,theta,theta_dot,strain\n0,0.5,0,0\n0.1,0.45,0,0\n0.05,0.4,0,0\n");
     assert_bad(&fit(&backwards), "not increasing");
     let columns = csv("columns.csv", "t,angle\n0,0.5\n0.1,0.4\n0.2,0.3\n");

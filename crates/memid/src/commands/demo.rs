@@ -1,7 +1,7 @@
 //! `memid demo`: the paper's two runs on the embedded slewing experiment.
 
 use crate::commands::fit::prepare;
-use crate::io::parse_measurement;
+use crate::io::{Inputs, Outputs, print};
 use crate::output::{era_json, era_table, fit_json, fit_table, kind, modal_json};
 use crate::progress::spinner;
 use crate::report::Report;
@@ -16,6 +16,7 @@ const MEASURED_CSV: &str = include_str!("../../../../fixtures/slewing_measured.c
 
 /// Run the paper's Run 1 (C_v) and Run 2 (C_v, K_p) on the embedded experiment and write a report.
 #[derive(clap::Args)]
+#[command(allow_negative_numbers = true)]
 pub struct Args {
     /// Report directory.
     #[arg(long, value_name = "DIR", default_value = "reports/demo")]
@@ -123,7 +124,10 @@ fn table2(rows: &[(String, Table2Row)]) -> String {
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
     let model = SlewingModel::paper();
-    let full = parse_measurement(MEASURED_CSV, "fixtures/slewing_measured.csv")?;
+    let inputs = Inputs::default();
+    let mut outputs = Outputs::new(&inputs);
+    outputs.check_directory(&args.report)?;
+    let full = mem::Measurement::from_csv(MEASURED_CSV, "fixtures/slewing_measured.csv")?;
     // The paper recorded at 128 Hz and identified at 12.8 Hz from the position response.
     let (position_model, position_data) = prepare(model.clone(), full.clone(), Some("theta"), Some(10))?;
     let mut request = FitRequest::new(&["cv"]);
@@ -172,8 +176,7 @@ pub fn run(args: Args) -> Result<()> {
             "flexible_frequency_hz": ff, "flexible_damping_ratio": zf,
         })).collect::<Vec<_>>(),
     });
-    let mut report =
-        Report::new(&args.report, "memid demo — the paper's two runs on the slewing experiment")?;
+    let mut report = Report::new(&args.report, "memid demo — the paper's two runs on the slewing experiment");
     report.text(
         "The \"measured\" data are synthetic (fixtures/README.md): a truth model with an amplifier current \
          limit, air drag, potentiometer quantization and sensor noise, sampled at 128 Hz. The fits below are \
@@ -192,19 +195,20 @@ pub fn run(args: Args) -> Result<()> {
          decay.\n\n```text\n{}```\n",
         era_table(&era_result)
     ));
-    report.measured("fig3_measured", "Fig. 3 — measured time histories (128 Hz)", &full)?;
-    report.fit("fig4a_run1", "Fig. 4a/5a — Run 1", &position_data, &run1)?;
-    report.fit("fig4b_run2", "Fig. 4b/5b — Run 2", &position_data, &run2)?;
+    report.measured("fig3_measured", "Fig. 3 — measured time histories (128 Hz)", &full);
+    report.fit("fig4a_run1", "Fig. 4a/5a — Run 1", &position_data, &run1);
+    report.fit("fig4b_run2", "Fig. 4b/5b — Run 2", &position_data, &run2);
     report.json("demo.json", &document)?;
-    let path = report.finish()?;
+    let path = report.stage(&mut outputs)?;
+    outputs.commit()?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&document)?);
+        print(&(serde_json::to_string_pretty(&document)? + "\n"))
     } else {
-        println!("Run 1 — C_v from the paper's initial guess\n{}", fit_table(&run1.report));
-        println!("Run 2 — C_v and K_p from Run 1's result\n{}", fit_table(&run2.report));
-        println!("{t1}\n{t2}");
-        println!(
-            "modes of the final model: {}",
+        let mut text = format!("Run 1 — C_v from the paper's initial guess\n{}\n", fit_table(&run1.report));
+        text += &format!("Run 2 — C_v and K_p from Run 1's result\n{}\n", fit_table(&run2.report));
+        text += &format!("{t1}\n{t2}\n");
+        text += &format!(
+            "modes of the final model: {}\n",
             run2_modes
                 .iter()
                 .map(|r| format!(
@@ -216,7 +220,7 @@ pub fn run(args: Args) -> Result<()> {
                 .collect::<Vec<_>>()
                 .join("; ")
         );
-        println!("report written to {}", path.display());
+        text += &format!("report written to {}\n", path.display());
+        print(&text)
     }
-    Ok(())
 }

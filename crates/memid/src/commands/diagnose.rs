@@ -1,6 +1,6 @@
 //! `memid diagnose`: find where model and data disagree, name the missing effect, add it.
 
-use crate::io::{Inputs, names, read_measurement, write_atomic};
+use crate::io::{Inputs, Outputs, Target, names, print, read_measurement};
 use crate::output::fit_json;
 use crate::progress::spinner;
 use crate::report::Report;
@@ -12,6 +12,7 @@ use std::path::PathBuf;
 /// Find the physical effect a model is missing: baseline fit, localisation, candidate refits
 /// scored by BIC, and the augmented model.
 #[derive(clap::Args)]
+#[command(allow_negative_numbers = true)]
 pub struct Args {
     #[command(flatten)]
     model: super::model_args::ModelArgs,
@@ -126,12 +127,15 @@ pub fn diagnosis_table(d: &Diagnosis) -> String {
 pub fn run(args: Args) -> Result<()> {
     let mut inputs = Inputs::default();
     let model = args.model.load(&mut inputs)?;
-    inputs.add(&args.data);
-    let mut data = read_measurement(&args.data)?;
-    for out in [&args.output, &args.json].into_iter().flatten() {
-        if out.as_os_str() != "-" {
-            inputs.guard(out)?;
-        }
+    let mut data = read_measurement(&args.data, &mut inputs)?;
+    let mut outputs = Outputs::new(&inputs);
+    let json_target = args.json.as_deref().map(Target::from_arg);
+    let model_target = args.output.as_deref().map(Target::from_arg);
+    for target in json_target.iter().chain(&model_target) {
+        outputs.check(target)?;
+    }
+    if let Some(dir) = &args.report {
+        outputs.check_directory(dir)?;
     }
     if let Some(r) = args.decimate {
         data = data.decimate(r)?;
@@ -146,39 +150,45 @@ pub fn run(args: Args) -> Result<()> {
     let mut options = DiagnoseOptions::new(&free.iter().map(|s| s.as_str()).collect::<Vec<_>>());
     options.bic_threshold = args.threshold;
     options.only = args.only.as_deref().map(names).unwrap_or_default();
-    let bar = spinner("diagnosing: baseline fit, localisation, candidate refits", args.json.is_some());
+    let known = discrepancy::catalog_names();
+    if let Some(unknown) = options.only.iter().find(|o| !known.contains(&o.as_str())) {
+        bail!("--only: unknown effect `{unknown}`; the catalog holds {}", known.join(", "));
+    }
+    let quiet = json_target == Some(Target::Stdout) || model_target == Some(Target::Stdout);
+    let bar = spinner("diagnosing: baseline fit, localisation, candidate refits", quiet);
     let d = diagnose(&model, &data, &options)?;
     bar.finish_and_clear();
     let json = diagnosis_json(&d, &model.output_names());
-    match &args.json {
-        Some(p) if p.as_os_str() == "-" => println!("{}", serde_json::to_string_pretty(&json)?),
-        Some(p) => write_atomic(p, serde_json::to_string_pretty(&json)?.as_bytes())?,
-        None => print!("{}", diagnosis_table(&d)),
+    let mut messages = String::new();
+    match &json_target {
+        Some(target) => outputs.stage(target, (serde_json::to_string_pretty(&json)? + "\n").into_bytes())?,
+        None => messages += &diagnosis_table(&d),
     }
-    if let Some(path) = &args.output {
-        write_atomic(path, d.augmented().to_ron().as_bytes())?;
-        if args.json.is_none() {
-            println!("augmented model written to {}", path.display());
+    if let Some(target) = &model_target {
+        outputs.stage(target, d.augmented().to_ron().into_bytes())?;
+        if let (Target::File(path), None) = (target, &json_target) {
+            messages += &format!("augmented model written to {}\n", path.display());
         }
     }
     if let Some(dir) = &args.report {
         let aligned = discrepancy::align(&model, &data)?;
-        let mut report = Report::new(dir, "memid diagnose")?;
+        let mut report = Report::new(dir, "memid diagnose");
         report.text(&format!("```text\n{}```\n", diagnosis_table(&d)));
-        report.fit("baseline", "Baseline model", &aligned, &d.baseline)?;
+        report.fit("baseline", "Baseline model", &aligned, &d.baseline);
         if let Some(outcome) = d.chosen.and_then(|i| d.candidates[i].outcome.as_ref()) {
             report.fit(
                 "augmented",
                 &format!("With {}", d.candidates[d.chosen.unwrap_or(0)].label),
                 &aligned,
                 outcome,
-            )?;
+            );
         }
         report.json("diagnosis.json", &json)?;
-        report.finish()?;
-        if args.json.is_none() {
-            println!("report written to {}", dir.join("report.md").display());
+        let path = report.stage(&mut outputs)?;
+        if json_target.is_none() {
+            messages += &format!("report written to {}\n", path.display());
         }
     }
-    Ok(())
+    outputs.commit()?;
+    print(&messages)
 }

@@ -1,12 +1,13 @@
 //! `memid era`: modal parameters of a measured free decay.
 
-use crate::io::read_measurement;
+use crate::io::{Inputs, print, read_measurement};
 use crate::output::{era_json, era_table};
 use anyhow::Result;
 use std::path::PathBuf;
 
 /// The Eigensystem Realization Algorithm on a measured free decay (Table 2's "Measurements").
 #[derive(clap::Args)]
+#[command(allow_negative_numbers = true)]
 pub struct Args {
     /// Measured data (CSV with header t,<outputs>).
     #[arg(long)]
@@ -24,15 +25,14 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
-    let mut data = read_measurement(&args.data)?;
+    let mut data = read_measurement(&args.data, &mut Inputs::default())?;
     if let Some(r) = args.decimate {
         data = data.decimate(r)?;
     }
     let result = era::identify(data.values().as_ref(), data.interval(), args.order)?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&era_json(&result))?);
+        print(&(serde_json::to_string_pretty(&era_json(&result))? + "\n"))
     } else {
-        print!("{}", era_table(&result));
+        print(&era_table(&result))
     }
-    Ok(())
 }

@@ -1,6 +1,6 @@
 //! `memid fit`: the MEM fit of a model to measured data.
 
-use crate::io::{Inputs, names, read_measurement, write_atomic};
+use crate::io::{Inputs, Outputs, Target, names, print, read_measurement};
 use crate::output::{fit_json, fit_table};
 use crate::progress::spinner;
 use crate::report::Report;
@@ -8,10 +8,11 @@ use anyhow::{Result, bail};
 use discrepancy::{FitRequest, fit};
 use mem::{Measurement, Safeguard};
 use plant::SlewingModel;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Fit the free parameters of a model to a measured free decay.
 #[derive(clap::Args)]
+#[command(allow_negative_numbers = true)]
 pub struct Args {
     #[command(flatten)]
     model: super::model_args::ModelArgs,
@@ -101,12 +102,15 @@ pub fn prepare(
 pub fn run(args: Args) -> Result<()> {
     let mut inputs = Inputs::default();
     let model = args.model.load(&mut inputs)?;
-    inputs.add(&args.data);
-    let data = read_measurement(&args.data)?;
-    for out in [&args.output, &args.json].into_iter().flatten() {
-        if out.as_os_str() != "-" {
-            inputs.guard(out)?;
-        }
+    let data = read_measurement(&args.data, &mut inputs)?;
+    let mut outputs = Outputs::new(&inputs);
+    let json_target = args.json.as_deref().map(Target::from_arg);
+    let model_target = args.output.as_deref().map(Target::from_arg);
+    for target in json_target.iter().chain(&model_target) {
+        outputs.check(target)?;
+    }
+    if let Some(dir) = &args.report {
+        outputs.check_directory(dir)?;
     }
     let (model, data) = prepare(model, data, args.outputs.as_deref(), args.decimate)?;
     let free = match &args.free {
@@ -124,52 +128,43 @@ pub fn run(args: Args) -> Result<()> {
     }
     request.max_iterations = args.max_iterations;
     request.covariance = args.covariance.into();
-    let quiet = args.json.is_some();
+    let quiet = json_target.is_some();
     let bar = spinner(&format!("fitting {}", free.join(", ")), quiet);
     let outcome = fit(&model, &data, &request)?;
     bar.finish_and_clear();
     let json = fit_json(&outcome, &model.output_names());
-    match &args.json {
-        Some(path) if path.as_os_str() == "-" => println!("{}", serde_json::to_string_pretty(&json)?),
-        Some(path) => write_atomic(path, serde_json::to_string_pretty(&json)?.as_bytes())?,
+    let mut messages = String::new();
+    match &json_target {
+        Some(target) => outputs.stage(target, (serde_json::to_string_pretty(&json)? + "\n").into_bytes())?,
         None => {
-            println!(
-                "MEM fit of `{}` to {} ({} samples at {:.4} s, outputs {})",
+            messages += &format!(
+                "MEM fit of `{}` to {} ({} samples at {:.4} s, outputs {})\n",
                 model.file().name,
                 args.data.display(),
                 data.n_samples(),
                 data.interval(),
                 model.output_names().join(", ")
             );
-            print!("{}", fit_table(&outcome.report));
+            messages += &fit_table(&outcome.report);
         }
     }
-    if let Some(path) = &args.output {
-        write_atomic(path, outcome.fitted.to_ron().as_bytes())?;
-        if !quiet {
-            println!("fitted model written to {}", path.display());
+    if let Some(target) = &model_target {
+        outputs.stage(target, outcome.fitted.to_ron().into_bytes())?;
+        if let (Target::File(path), false) = (target, quiet) {
+            messages += &format!("fitted model written to {}\n", path.display());
         }
     }
     if let Some(dir) = &args.report {
-        write_report(dir, &data, &outcome, &json)?;
+        let mut report = Report::new(dir, "memid fit");
+        report.text(&format!("```text\n{}```\n", fit_table(&outcome.report)));
+        report.measured("measured", "Measured time histories", &data);
+        report.fit("fit", "Fit", &data, &outcome);
+        report.json("fit.json", &json)?;
+        let path = report.stage(&mut outputs)?;
         if !quiet {
-            println!("report written to {}", dir.join("report.md").display());
+            messages += &format!("report written to {}\n", path.display());
         }
     }
-    Ok(())
-}
-
-fn write_report(
-    dir: &Path,
-    data: &Measurement,
-    outcome: &discrepancy::FitOutcome,
-    json: &serde_json::Value,
-) -> Result<()> {
-    let mut report = Report::new(dir, "memid fit")?;
-    report.text(&format!("```text\n{}```\n", fit_table(&outcome.report)));
-    report.measured("measured", "Measured time histories", data)?;
-    report.fit("fit", "Fit", data, outcome)?;
-    report.json("fit.json", json)?;
-    report.finish()?;
-    Ok(())
+    outputs.commit()?;
+    print(&messages)
 }

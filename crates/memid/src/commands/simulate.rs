@@ -1,12 +1,13 @@
 //! `memid simulate`: a model's free decay as CSV.
 
-use crate::io::{Inputs, csv_text, write_atomic};
+use crate::io::{Inputs, Outputs, Target};
 use anyhow::{Result, anyhow, bail};
 use rand::{Rng, SeedableRng};
 use std::path::PathBuf;
 
 /// Simulate a model's free decay into a CSV file (header `t,<outputs>`).
 #[derive(clap::Args)]
+#[command(allow_negative_numbers = true)]
 pub struct Args {
     #[command(flatten)]
     model: super::model_args::ModelArgs,
@@ -59,21 +60,36 @@ fn noise_levels(spec: Option<&str>, outputs: &[&str]) -> Result<Vec<f64>> {
     Ok(levels)
 }
 
+/// The largest number of values (samples × outputs) `simulate` writes: 2²⁸ (2 GiB of numbers,
+/// several GiB of text).
+const MAX_VALUES: f64 = (1u64 << 28) as f64;
+
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
     let mut inputs = Inputs::default();
     let model = args.model.load(&mut inputs)?;
-    inputs.guard(&args.output)?;
+    let target = Target::from_arg(&args.output);
+    let mut outputs = Outputs::new(&inputs);
+    outputs.check(&target)?;
     if !(args.duration.is_finite() && args.duration > 0.0) {
         bail!("--duration must be a positive number of seconds, got {}", args.duration);
     }
     if !(args.rate.is_finite() && args.rate > 0.0) {
         bail!("--rate must be a positive frequency in Hz, got {}", args.rate);
     }
-    let h = 1.0 / args.rate;
-    let n = (args.duration * args.rate).floor() as usize + 1;
-    let outputs = model.output_names();
-    let levels = noise_levels(args.noise.as_deref(), &outputs)?;
+    let samples = (args.duration * args.rate).floor() + 1.0;
+    let names: Vec<String> = model.output_names().iter().map(|s| s.to_string()).collect();
+    if samples * names.len() as f64 > MAX_VALUES {
+        bail!(
+            "--duration {} at --rate {} asks for {samples:.3e} samples of {} outputs, beyond the {MAX_VALUES:.0} values memid writes; shorten the record or lower the rate",
+            args.duration,
+            args.rate,
+            names.len()
+        );
+    }
+    let (h, n) = (1.0 / args.rate, samples as usize);
+    let outputs_names: Vec<&str> = names.iter().map(|s| s.as_str()).collect();
+    let levels = noise_levels(args.noise.as_deref(), &outputs_names)?;
     let mut y = models::simulate_model(&model, h, n)?;
     let mut rng = rand::rngs::StdRng::seed_from_u64(args.seed);
     for (o, std) in levels.iter().enumerate() {
@@ -81,9 +97,20 @@ pub fn run(args: Args) -> Result<()> {
             y[(k, o)] += std * rng.sample::<f64, _>(rand_distr::StandardNormal);
         }
     }
-    let times: Vec<f64> = (0..n).map(|k| k as f64 * h).collect();
-    let names: Vec<String> = outputs.iter().map(|s| s.to_string()).collect();
-    write_atomic(&args.output, csv_text(&names, &times, &y).as_bytes())?;
-    eprintln!("wrote {} samples of {} to {}", n, names.join(", "), args.output.display());
+    if let Some((k, o)) =
+        (0..n).flat_map(|k| (0..names.len()).map(move |o| (k, o))).find(|&(k, o)| !y[(k, o)].is_finite())
+    {
+        bail!(
+            "the simulated `{}` is not finite at t = {} s (the model's response overflows); check the model's values",
+            names[o],
+            k as f64 * h
+        );
+    }
+    let record = mem::Measurement::new(names.clone(), 0.0, h, y)?;
+    outputs.stage(&target, record.to_csv().into_bytes())?;
+    outputs.commit()?;
+    if let Target::File(path) = &target {
+        eprintln!("wrote {} samples of {} to {}", n, names.join(", "), path.display());
+    }
     Ok(())
 }

@@ -1,0 +1,53 @@
+//! Reading inputs (CSV records, model files, `--set` assignments) and writing outputs safely
+//! ([`files`]).
+
+mod files;
+
+pub use files::{BrokenPipe, Inputs, Outputs, Target, install_signal_cleanup, print};
+
+use anyhow::{Result, anyhow, bail};
+use mem::Measurement;
+use plant::SlewingModel;
+use std::path::Path;
+
+/// Reads a CSV with header `t,<columns>` into a measurement; errors name the file, line and column.
+pub fn read_measurement(path: &Path, inputs: &mut Inputs) -> Result<Measurement> {
+    inputs.add(path);
+    Ok(Measurement::read_csv(path)?)
+}
+
+/// Loads a model file and applies `--set NAME=VALUE` assignments.
+pub fn load_model(path: &Path, sets: &[String], inputs: &mut Inputs) -> Result<SlewingModel> {
+    inputs.add(path);
+    let mut model = SlewingModel::load(path)?;
+    apply_sets(&mut model, sets)?;
+    Ok(model)
+}
+
+/// Parses one `--set NAME=VALUE` into its name and a finite value.
+pub fn parse_set(set: &str) -> Result<(&str, f64)> {
+    let (name, value) = set
+        .split_once('=')
+        .ok_or_else(|| anyhow!("--set `{set}`: expected NAME=VALUE, e.g. --set cv=0.2"))?;
+    let v: f64 =
+        value.trim().parse().map_err(|_| anyhow!("--set {set}: `{}` is not a number", value.trim()))?;
+    if !v.is_finite() {
+        bail!("--set {set}: `{}` is not a finite number", value.trim());
+    }
+    Ok((name.trim(), v))
+}
+
+/// Applies `NAME=VALUE` assignments; errors name the assignment.
+pub fn apply_sets(model: &mut SlewingModel, sets: &[String]) -> Result<()> {
+    for set in sets {
+        let (name, value) = parse_set(set)?;
+        let id = model.parameter(name).map_err(|e| anyhow!("--set {set}: {e}"))?;
+        model.set(id, value).map_err(|e| anyhow!("--set {set}: {e}"))?;
+    }
+    Ok(())
+}
+
+/// Splits a comma-separated list of names.
+pub fn names(list: &str) -> Vec<String> {
+    list.split(',').map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect()
+}

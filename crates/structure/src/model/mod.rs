@@ -1,0 +1,333 @@
+//! [`StructureModel`]: a validated model file, its compiled expressions and current values.
+
+use crate::compile::{Checked, Ctx, compile};
+use crate::modes::{StructureMode, modes_of};
+use crate::scan::{self, Tree};
+use crate::schema::{self, ModelFile};
+use crate::{StructureError, write};
+use mem::{Scalar, SecondOrder, StateSpace};
+
+/// A linear structure read from a model file: its parameters (with their current values), the
+/// compiled expressions of its matrices, its inputs and outputs.
+///
+/// [`state_space`](Self::state_space) assembles A, C, x(0), B, D for any scalar — `f64` for
+/// values, `num_dual::Dual64` (or any num-dual number) for exact derivatives — from the
+/// expressions parsed once when the file was read. The model also implements
+/// [`mem::StateSpaceModel`], so `mem::Exact(model)` is ready to fit.
+///
+/// ```
+/// use structure::StructureModel;
+///
+/// let text = r#"(
+///     name: "one storey",
+///     parameters: { "m": (value: 1000, unit: "kg"), "k": (value: 4e6, unit: "N/m", free: true, bounds: (0, 1e9)) },
+///     structure: SecondOrder(
+///         coordinates: ["q"],
+///         mass: [["m"]],
+///         stiffness: [["k"]],
+///         damping: Modal([0.02]),
+///     ),
+///     outputs: [(column: "q", measures: Displacement("q"))],
+///     initial: (displacement: [0.01]),
+/// )"#;
+/// let mut model = StructureModel::from_ron(text, "one_storey.ron")?;
+/// assert_eq!(model.free(), ["k"]);
+/// let f = model.modes()?[0].frequency_hz;
+/// assert!((f - (4e6f64 / 1000.0).sqrt() / (2.0 * std::f64::consts::PI)).abs() < 1e-9);
+/// model.set("k", 5e6)?;
+/// assert_eq!(model.value("k")?, 5e6);
+/// # Ok::<(), structure::StructureError>(())
+/// ```
+#[derive(Clone, Debug)]
+pub struct StructureModel {
+    name: String,
+    origin: String,
+    text: String,
+    file: ModelFile,
+    checked: Checked,
+    values: Vec<f64>,
+}
+
+impl StructureModel {
+    /// Reads and validates a model file; `origin` names it in error messages (a path, or e.g.
+    /// `<string>`).
+    ///
+    /// # Errors
+    /// [`StructureError::Syntax`] for malformed RON, unknown or missing fields;
+    /// [`StructureError::Expression`] for an entry that does not parse or names an unknown
+    /// parameter; [`StructureError::InvalidValue`] and [`StructureError::Invalid`] for an
+    /// impossible value, size, name or model at the file's values. All carry the line and column.
+    pub fn from_ron(text: &str, origin: &str) -> Result<Self, StructureError> {
+        let file = schema::from_str(text).map_err(|e| syntax_error(text, origin, &e))?;
+        let checked = compile(&file, &Ctx::new(text, origin))?;
+        let values = checked.params.iter().map(|p| p.value).collect();
+        Ok(StructureModel {
+            name: file.name.clone(),
+            origin: origin.to_string(),
+            text: text.to_string(),
+            file,
+            checked,
+            values,
+        })
+    }
+
+    /// Reads a model file from disk (its path is the origin in error messages).
+    ///
+    /// # Errors
+    /// [`StructureError::Io`] if the file cannot be read; otherwise as [`from_ron`](Self::from_ron).
+    pub fn load(path: &std::path::Path) -> Result<Self, StructureError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| StructureError::Io { path: path.display().to_string(), source })?;
+        Self::from_ron(&text, &path.display().to_string())
+    }
+
+    /// The model's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// All parameter names, in declaration order (the order of P in
+    /// [`state_space`](Self::state_space)).
+    pub fn parameter_names(&self) -> Vec<String> {
+        self.checked.params.iter().map(|p| p.name.clone()).collect()
+    }
+
+    /// The current values of all parameters, in declaration order.
+    pub fn values(&self) -> Vec<f64> {
+        self.values.clone()
+    }
+
+    fn index(&self, name: &str) -> Result<usize, StructureError> {
+        self.checked.params.iter().position(|p| p.name == name).ok_or_else(|| {
+            StructureError::UnknownParameter {
+                name: name.to_string(),
+                valid: self.parameter_names().join(", "),
+            }
+        })
+    }
+
+    fn info(&self, name: &str) -> Option<&crate::compile::ParamInfo> {
+        self.checked.params.iter().find(|p| p.name == name)
+    }
+
+    /// The current value of a parameter.
+    ///
+    /// # Errors
+    /// [`StructureError::UnknownParameter`] (listing the valid names).
+    pub fn value(&self, name: &str) -> Result<f64, StructureError> {
+        Ok(self.values[self.index(name)?])
+    }
+
+    /// Sets a parameter's current value.
+    ///
+    /// # Errors
+    /// [`StructureError::UnknownParameter`] (listing the valid names),
+    /// [`StructureError::NotFinite`], or [`StructureError::OutOfBounds`] for a value outside the
+    /// parameter's declared bounds (so that [`to_ron`](Self::to_ron) always writes a valid file).
+    pub fn set(&mut self, name: &str, value: f64) -> Result<(), StructureError> {
+        let i = self.index(name)?;
+        if !value.is_finite() {
+            return Err(StructureError::NotFinite { name: name.to_string(), value });
+        }
+        if let Some((lower, upper)) = self.checked.params[i].bounds
+            && !(lower..=upper).contains(&value)
+        {
+            return Err(StructureError::OutOfBounds { name: name.to_string(), value, lower, upper });
+        }
+        self.values[i] = value;
+        Ok(())
+    }
+
+    /// The parameters marked `free: true`, in declaration order.
+    pub fn free(&self) -> Vec<String> {
+        self.checked.params.iter().filter(|p| p.free).map(|p| p.name.clone()).collect()
+    }
+
+    /// A parameter's declared bounds (lower, upper), if any.
+    pub fn bounds(&self, name: &str) -> Option<(f64, f64)> {
+        self.info(name)?.bounds
+    }
+
+    /// A parameter's declared typical size (a positive scale for its steps), if any.
+    pub fn typical(&self, name: &str) -> Option<f64> {
+        self.info(name)?.typical
+    }
+
+    /// A parameter's declared unit, if any.
+    pub fn unit(&self, name: &str) -> Option<&str> {
+        self.info(name)?.unit.as_deref()
+    }
+
+    /// A parameter's declared description, if any.
+    pub fn description(&self, name: &str) -> Option<&str> {
+        self.info(name)?.description.as_deref()
+    }
+
+    /// The outputs' CSV columns, in order (the rows of C).
+    pub fn output_names(&self) -> Vec<String> {
+        self.checked.outputs.iter().map(|o| o.name.clone()).collect()
+    }
+
+    /// An output column's declared unit, if any.
+    pub fn output_unit(&self, column: &str) -> Option<&str> {
+        self.checked.outputs.iter().find(|o| o.name == column)?.unit.as_deref()
+    }
+
+    /// The inputs' names (CSV columns), in order (the columns of B).
+    pub fn input_names(&self) -> Vec<String> {
+        self.checked.inputs.iter().map(|i| i.name.clone()).collect()
+    }
+
+    /// An input's declared unit, if any.
+    pub fn input_unit(&self, name: &str) -> Option<&str> {
+        self.checked.inputs.iter().find(|i| i.name == name)?.unit.as_deref()
+    }
+
+    /// How inputs are held between samples (`hold:` in the file, zero-order by default).
+    pub fn hold(&self) -> mem::Hold {
+        self.checked.hold
+    }
+
+    /// The coordinates (second-order file) or the states (first-order file), in order.
+    pub fn coordinates(&self) -> Vec<String> {
+        self.checked.coordinates.clone()
+    }
+
+    /// Whether the file is second order (`SecondOrder(…)`), with state x = [q; q̇].
+    pub fn is_second_order(&self) -> bool {
+        matches!(self.checked.compiled.dynamics, crate::assemble::Dynamics::Second { .. })
+    }
+
+    /// The number of states N: twice the number of coordinates for a second-order file.
+    pub fn n_states(&self) -> usize {
+        match self.checked.compiled.dynamics {
+            crate::assemble::Dynamics::Second { n, .. } => 2 * n,
+            crate::assemble::Dynamics::First { n, .. } => n,
+        }
+    }
+
+    /// A, C, x(0), B, D at the parameter values `p` (all parameters, declaration order), for any
+    /// scalar: `f64` for values, a num-dual number seeded on some parameters for exact
+    /// derivatives. B and D are `None` for a model without inputs.
+    ///
+    /// # Errors
+    /// [`StructureError::ParameterCount`] if `p` has the wrong length;
+    /// [`StructureError::Assembly`] if the model cannot be formed at `p` (a singular mass matrix,
+    /// modal damping without positive definite M and K, a non-finite entry).
+    pub fn state_space<D: Scalar>(&self, p: &[D]) -> Result<StateSpace<D>, StructureError> {
+        self.checked.compiled.state_space(p)
+    }
+
+    /// M, D, K and F (if there are inputs) at the parameter values `p`; `None` for a
+    /// first-order file.
+    ///
+    /// # Errors
+    /// As [`state_space`](Self::state_space).
+    pub fn second_order<D: Scalar>(&self, p: &[D]) -> Result<Option<SecondOrder<D>>, StructureError> {
+        let values = self.checked.compiled.values(p)?;
+        self.checked.compiled.second_order_at(&values)
+    }
+
+    /// The index of a coordinate's displacement in the state (its velocity is at this index
+    /// plus the number of coordinates), or of a first-order state; `None` for an unknown name.
+    pub fn coordinate_index(&self, name: &str) -> Option<usize> {
+        self.checked.coordinates.iter().position(|c| c == name)
+    }
+
+    /// The modes at the current values: the eigenvalues of A, one per complex-conjugate pair
+    /// (λ with Im λ > 0) or real eigenvalue, sorted by undamped frequency |λ|/2π, with damping
+    /// ratio −Re λ/|λ| and, for a second-order file, the mode shape over the coordinates. With
+    /// proportional (e.g. Rayleigh or modal) damping |λ| = ω_n, the undamped natural frequency
+    /// of K φ = ω² M φ.
+    ///
+    /// # Errors
+    /// As [`state_space`](Self::state_space); [`StructureError::Eigen`] if the eigenvalues do
+    /// not converge.
+    pub fn modes(&self) -> Result<Vec<StructureMode>, StructureError> {
+        let space = self.state_space::<f64>(&self.values)?;
+        modes_of(&space.a, self.is_second_order().then_some(space.a.nrows() / 2))
+    }
+
+    /// The model file with the current parameter values written in.
+    ///
+    /// The file's own text is kept — comments, layout, expressions — and only the `value:` of
+    /// each parameter whose value changed is rewritten (in Rust's shortest round-trip form).
+    /// Should the text not allow that, the file is written anew from its parsed content (same
+    /// model, without comments). Reading the result back gives the same model with the current
+    /// values, provided the model can be assembled at them (a file whose masses were set to zero,
+    /// say, is written but rejected when read).
+    pub fn to_ron(&self) -> String {
+        let file_values: Vec<f64> = self.checked.params.iter().map(|p| p.value).collect();
+        if let Some(text) =
+            write::patch_values(&self.text, &Tree::parse(&self.text), &file_values, &self.values)
+            && self.reads_back(&text)
+        {
+            return text;
+        }
+        self.rewritten()
+    }
+
+    /// The file written anew from its parsed content with the current values (no comments).
+    fn rewritten(&self) -> String {
+        let mut file = self.file.clone();
+        for ((_, parameter), value) in file.parameters.0.iter_mut().zip(&self.values) {
+            parameter.value = *value;
+        }
+        schema::to_string(&file)
+    }
+
+    /// Whether `text` reads back as a model with the current values.
+    fn reads_back(&self, text: &str) -> bool {
+        StructureModel::from_ron(text, &self.origin)
+            .is_ok_and(|m| m.values.iter().zip(&self.values).all(|(a, b)| a.to_bits() == b.to_bits()))
+    }
+
+    /// The file's text as read.
+    pub fn source(&self) -> &str {
+        &self.text
+    }
+}
+
+/// A RON error, located at the offending identifier for an unknown field or variant (RON
+/// reports the position after it).
+fn syntax_error(text: &str, origin: &str, e: &ron::error::SpannedError) -> StructureError {
+    let (mut line, mut column) = (e.position.line, e.position.col);
+    let ident = match &e.code {
+        ron::Error::NoSuchStructField { found, .. } | ron::Error::NoSuchEnumVariant { found, .. } => {
+            Some(found.as_str())
+        }
+        ron::Error::DuplicateStructField { field, .. } => Some(*field),
+        _ => None,
+    };
+    if let Some(at) =
+        ident.and_then(|ident| scan::ident_before(text, scan::offset_of(text, line, column), ident))
+    {
+        (line, column) = scan::line_column(text, at);
+    }
+    StructureError::Syntax { origin: origin.to_string(), line, column, message: e.code.to_string() }
+}
+
+impl mem::StateSpaceModel for StructureModel {
+    fn parameter_names(&self) -> Vec<String> {
+        StructureModel::parameter_names(self)
+    }
+    fn output_names(&self) -> Vec<String> {
+        StructureModel::output_names(self)
+    }
+    fn input_names(&self) -> Vec<String> {
+        StructureModel::input_names(self)
+    }
+    fn state_space<D: Scalar>(&self, p: &[D]) -> Result<StateSpace<D>, mem::BoxedError> {
+        Ok(StructureModel::state_space(self, p)?)
+    }
+}
+
+/// Whether RON text is a structure model file (its top-level value has a `structure:` field)
+/// rather than a slewing-rig file. Comments and string contents are not mistaken for the field;
+/// the text need not be valid.
+pub fn is_structure_file(text: &str) -> bool {
+    crate::scan::has_top_level_field(text, "structure")
+}
+
+#[cfg(test)]
+mod tests;
