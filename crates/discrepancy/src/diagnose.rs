@@ -7,7 +7,7 @@ use crate::quantization;
 use crate::stats::{ar1_innovations, delta_bic, ljung_box};
 use faer::Mat;
 use mem::Measurement;
-use models::{FitOutcome, FitRequest, align, fit};
+use models::{FitOutcome, FitRequest, Model, align, fit};
 use plant::{Effect, ModeKind, ParamId, Sensor, SlewingModel};
 use rayon::prelude::*;
 
@@ -88,7 +88,9 @@ impl Diagnosis {
     }
     /// The augmented model (the baseline's if none is named).
     pub fn augmented(&self) -> &SlewingModel {
-        self.chosen.and_then(|i| self.candidates[i].model.as_ref()).unwrap_or(&self.baseline.fitted)
+        self.chosen
+            .and_then(|i| self.candidates[i].model.as_ref())
+            .unwrap_or_else(|| slewing(&self.baseline.fitted))
     }
     /// The augmented model's error (the baseline's if none is named).
     pub fn augmented_error(&self) -> f64 {
@@ -227,9 +229,9 @@ impl Reference<'_> {
         parameters: Vec<EffectParameter>,
     ) -> Candidate {
         let error = *outcome.report.error_history.last().expect("history");
-        let residual = outcome.residual(self.data);
+        let residual = outcome.first().residual();
         let delta_bic = delta_bic(
-            &channel_errors(&residual, &outcome.weights),
+            &channel_errors(&residual, &outcome.first().weights),
             &self.channels,
             self.data.n_samples(),
             parameters.len(),
@@ -244,7 +246,7 @@ impl Reference<'_> {
             whiteness_p: whiteness(&residual),
             parameters,
             failure: None,
-            model: Some(outcome.fitted.clone()),
+            model: Some(slewing(&outcome.fitted).clone()),
             outcome: Some(outcome),
         }
     }
@@ -259,19 +261,20 @@ pub fn diagnose(
     data: &Measurement,
     options: &DiagnoseOptions,
 ) -> Result<Diagnosis, WorkflowError> {
-    let data = align(model, data)?;
+    let wrapped = Model::Slewing(model.clone());
+    let data = align(&wrapped, data)?;
     let free: Vec<&str> = options.free.iter().map(|s| s.as_str()).collect();
     let mut request = FitRequest::new(&free);
     request.derivative_check = mem::DerivativeCheck::Skip;
-    let baseline = fit(model, &data, &request)?;
+    let baseline = fit(&wrapped, &data, &request)?;
     let localisation = localise(&data, &baseline);
     let reference = Reference {
         data: &data,
         error: *baseline.report.error_history.last().expect("history"),
-        channels: channel_errors(&baseline.residual(&data), &baseline.weights),
+        channels: channel_errors(&baseline.first().residual(), &baseline.first().weights),
     };
     let wanted = |kind: &str| options.only.is_empty() || options.only.iter().any(|o| o == kind);
-    let start = &baseline.fitted;
+    let start = slewing(&baseline.fitted);
     let mut candidates: Vec<Candidate> = trials(start, &localisation)
         .into_par_iter()
         .filter(|t| wanted(t.effect.kind()))
@@ -290,7 +293,7 @@ pub fn diagnose(
                 let mut request = FitRequest::new(&refs);
                 request.max_iterations = 60;
                 request.derivative_check = mem::DerivativeCheck::Skip;
-                Ok(fit(&augmented, &data, &request)?)
+                Ok(fit(&Model::Slewing(augmented), &data, &request)?)
             };
             match attempt() {
                 Ok(outcome) => {
@@ -394,7 +397,7 @@ fn quantization_candidates(
             let mut request = FitRequest::new(&refs);
             request.max_iterations = 60;
             request.derivative_check = mem::DerivativeCheck::Skip;
-            Ok(fit(&model, data, &request)?)
+            Ok(fit(&Model::Slewing(model), data, &request)?)
         };
         let parameter = EffectParameter {
             name: format!("quantization_step_{}", sensor.output_name()),
@@ -407,4 +410,9 @@ fn quantization_candidates(
         });
     }
     out
+}
+
+/// The slewing model inside a fitted model (diagnose works on slewing models).
+fn slewing(model: &Model) -> &SlewingModel {
+    model.as_slewing().expect("diagnose fits slewing models only")
 }

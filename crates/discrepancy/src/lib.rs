@@ -29,7 +29,7 @@ pub mod study_run;
 
 pub use diagnose::{Candidate, DiagnoseOptions, Diagnosis, EffectParameter, diagnose};
 pub use localise::{Localisation, OutputDiscrepancy, localise};
-pub use models::{FitOutcome, FitRequest, align, fit, response_model};
+pub use models::{FitOutcome, FitRequest, Model, align, fit};
 
 /// What can go wrong in a workflow.
 #[derive(Debug, thiserror::Error)]

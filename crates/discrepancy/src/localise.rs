@@ -68,9 +68,9 @@ fn half_cycle_peaks(values: &[f64]) -> Vec<f64> {
 
 /// Localises the residual of a fit.
 pub fn localise(data: &Measurement, outcome: &FitOutcome) -> Localisation {
-    let residual = outcome.residual(data);
+    let residual = outcome.first().residual();
     let (k, p) = (data.n_samples(), data.n_outputs());
-    let weights = &outcome.weights;
+    let weights = &outcome.first().weights;
     let total: f64 =
         (0..p).map(|o| (0..k).map(|t| (weights[o] * residual[(t, o)]).powi(2)).sum::<f64>()).sum();
     let third = k / 3;

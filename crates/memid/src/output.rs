@@ -1,13 +1,14 @@
 //! Tables for the terminal and JSON documents (fields documented in docs/json.md).
 
-use discrepancy::FitOutcome;
 use mem::FitReport;
-use plant::{ModalRow, ModeKind};
+use models::FitOutcome;
+use models::ModeRow;
+use plant::ModeKind;
 use serde_json::{Value, json};
 
 /// A fit as JSON: the report's own fields (docs/json.md), with a per-parameter summary and the
 /// warnings in words.
-pub fn fit_json(outcome: &FitOutcome, output_names: &[&str]) -> Value {
+pub fn fit_json(outcome: &FitOutcome) -> Value {
     let r = &outcome.report;
     let s = &r.statistics;
     let parameters: Vec<Value> = (0..r.parameters.len())
@@ -35,16 +36,7 @@ pub fn fit_json(outcome: &FitOutcome, output_names: &[&str]) -> Value {
             map.remove(redundant);
         }
         map.insert("parameters".into(), json!(parameters));
-        map.insert(
-            "weights".into(),
-            json!(
-                output_names
-                    .iter()
-                    .zip(&outcome.weights)
-                    .map(|(n, w)| json!({"output": n, "weight": w}))
-                    .collect::<Vec<_>>()
-            ),
-        );
+
         map.insert(
             "singular_values".into(),
             json!(r.records.last().map(|rec| rec.singular_values.clone()).unwrap_or_default()),
@@ -71,13 +63,19 @@ pub fn fit_json(outcome: &FitOutcome, output_names: &[&str]) -> Value {
 }
 
 /// Modal rows as JSON.
-pub fn modal_json(rows: &[ModalRow]) -> Value {
-    json!({ "modes": rows.iter().map(|r| json!({
-        "kind": kind(r.kind),
-        "frequency_hz": r.frequency_hz,
-        "damping_ratio": r.damping_ratio,
-        "eigenvalue": [r.eigenvalue.0, r.eigenvalue.1],
-    })).collect::<Vec<_>>() })
+pub fn modal_json(rows: &[ModeRow]) -> Value {
+    json!({ "modes": rows.iter().map(|r| {
+        let mut v = json!({
+            "kind": r.kind,
+            "frequency_hz": r.frequency_hz,
+            "damping_ratio": r.damping_ratio,
+            "eigenvalue": [r.eigenvalue.0, r.eigenvalue.1],
+        });
+        if let Some(shape) = &r.shape {
+            v["shape"] = json!(shape);
+        }
+        v
+    }).collect::<Vec<_>>() })
 }
 
 /// ERA modes as JSON.
@@ -109,11 +107,21 @@ pub fn fit_table(r: &FitReport) -> String {
     r.to_string()
 }
 
-/// Closed-loop modes as a table (Table 2's columns).
-pub fn modal_table(rows: &[ModalRow]) -> String {
-    let mut out = format!("{:<12} {:>14} {:>14}\n", "mode", "frequency Hz", "damping %");
+/// Modes as a table (Table 2's columns; the mode shape over the coordinates for a structure).
+pub fn modal_table(rows: &[ModeRow], coordinates: &[String]) -> String {
+    let shapes = rows.iter().any(|r| r.shape.is_some());
+    let mut out = format!("{:<12} {:>14} {:>14}", "mode", "frequency Hz", "damping %");
+    if shapes {
+        out += &format!("   shape ({})", coordinates.join(", "));
+    }
+    out += "\n";
     for r in rows {
-        out += &format!("{:<12} {:>14.4} {:>14.2}\n", kind(r.kind), r.frequency_hz, 100.0 * r.damping_ratio);
+        out += &format!("{:<12} {:>14.4} {:>14.2}", r.kind, r.frequency_hz, 100.0 * r.damping_ratio);
+        if let Some(shape) = &r.shape {
+            out +=
+                &format!("   [{}]", shape.iter().map(|v| format!("{v:+.4}")).collect::<Vec<_>>().join(", "));
+        }
+        out += "\n";
     }
     out
 }

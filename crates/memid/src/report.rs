@@ -69,16 +69,19 @@ impl Report {
         self.figure(stem, caption, Figure { title: caption.to_string(), x_label: "t [s]".into(), panels });
     }
 
-    /// Measurement vs initial vs final model (Fig. 4), convergence (Fig. 5) and residuals.
-    pub fn fit(&mut self, name: &str, caption: &str, data: &Measurement, outcome: &FitOutcome) {
+    /// Measurement vs initial vs final model (Fig. 4), convergence (Fig. 5) and residuals, for
+    /// experiment `index` of a fit.
+    pub fn fit(&mut self, name: &str, caption: &str, outcome: &FitOutcome, index: usize) {
+        let experiment = &outcome.experiments[index];
+        let data = &experiment.data;
         let times = data.times();
         let panels = (0..data.n_outputs())
             .map(|o| Panel {
                 y_label: unit(&data.names()[o]),
                 series: vec![
                     series("measured", &times, data.values(), o, 0),
-                    series("initial model", &times, &outcome.initial_outputs, o, 1),
-                    series("final model", &times, &outcome.final_outputs, o, 2),
+                    series("initial model", &times, &experiment.initial_outputs, o, 1),
+                    series("final model", &times, &experiment.final_outputs, o, 2),
                 ],
             })
             .collect::<Vec<_>>();
@@ -110,7 +113,7 @@ impl Report {
                 panels: vec![convergence],
             },
         );
-        let residual = outcome.residual(data);
+        let residual = experiment.residual();
         let panels = (0..data.n_outputs())
             .map(|o| Panel {
                 y_label: unit(&data.names()[o]),

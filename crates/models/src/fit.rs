@@ -1,20 +1,23 @@
-//! Fitting a slewing model to measured data, whichever path (exponential or ODE) it needs.
+//! Fitting a model to one or more measured records, whichever path (exponential or ODE) it needs.
+//!
+//! Several experiments share the physical parameters; parameters named in
+//! [`FitRequest::per_experiment`] (typically initial displacements or velocities) are estimated
+//! once per experiment, named `name@k` for experiment k (1-based) in the report.
 
-use crate::ModelError;
-use crate::ode::NonlinearResponse;
-use crate::slewing::SlewingFitModel;
+use crate::{Model, ModelError};
 use faer::Mat;
 use mem::{
-    Covariance, DerivativeCheck, Experiment, Fit, FitReport, Measurement, Problem, ResponseModel, Safeguard,
-    interval_residual, sampled_response,
+    Covariance, DerivativeCheck, Experiment, Fit, FitReport, Measurement, Parameter, Problem, ResponseModel,
+    Safeguard, interval_residual, sampled_response,
 };
-use plant::SlewingModel;
 
 /// What to fit.
 #[derive(Clone, Debug)]
 pub struct FitRequest {
-    /// Names of the parameters to tune.
+    /// Names of the parameters to tune (shared by every experiment).
     pub free: Vec<String>,
+    /// Names of parameters estimated separately for each experiment (e.g. initial states).
+    pub per_experiment: Vec<String>,
     /// Weight outputs by 1/RMS (otherwise unit weights: the paper's Eq. 22).
     pub normalize: bool,
     /// Step safeguard.
@@ -29,10 +32,11 @@ pub struct FitRequest {
 
 impl FitRequest {
     /// Levenberg–Marquardt, normalised outputs, 100 iterations, derivative check on,
-    /// automatic covariance.
+    /// automatic covariance, nothing per experiment.
     pub fn new(free: &[&str]) -> Self {
         Self {
             free: free.iter().map(|s| s.to_string()).collect(),
+            per_experiment: Vec::new(),
             normalize: true,
             safeguard: Safeguard::LevenbergMarquardt,
             derivative_check: DerivativeCheck::Error,
@@ -42,74 +46,97 @@ impl FitRequest {
     }
 }
 
+/// One experiment of a fit: its record and the curves around the fit.
+#[derive(Clone, Debug)]
+pub struct ExperimentOutcome {
+    /// The record, aligned with the model's outputs (and decimated, if it was).
+    pub data: Measurement,
+    /// Outputs of the initial model on the record's rows (K × p).
+    pub initial_outputs: Mat<f64>,
+    /// Outputs of the fitted model on the record's rows, quantized where its sensors are.
+    pub final_outputs: Mat<f64>,
+    /// The continuous quantities the fitted model's sensors read, before quantization.
+    pub final_sensed: Mat<f64>,
+    /// Half the quantization step per output (0 for a continuous sensor).
+    pub half_widths: Vec<f64>,
+    /// Output weights used.
+    pub weights: Vec<f64>,
+    /// This experiment's own parameters (name, fitted value).
+    pub own: Vec<(String, f64)>,
+}
+
+impl ExperimentOutcome {
+    /// Unweighted residual measured − fitted (K × p). On a quantized output a reading y is the
+    /// interval [y − Δ/2, y + Δ/2], and the residual is the distance of the model's continuous
+    /// output to it — what the fit minimised.
+    pub fn residual(&self) -> Mat<f64> {
+        Mat::from_fn(self.data.n_samples(), self.data.n_outputs(), |k, o| {
+            interval_residual(self.data.values()[(k, o)] - self.final_sensed[(k, o)], self.half_widths[o])
+        })
+    }
+}
+
 /// A fit and the models and responses around it.
 #[derive(Clone, Debug)]
 pub struct FitOutcome {
     /// The MEM report.
     pub report: FitReport,
     /// The model the fit started from.
-    pub initial: SlewingModel,
-    /// The model with the fitted values.
-    pub fitted: SlewingModel,
-    /// Outputs of the initial model on the data's rows (K × p).
-    pub initial_outputs: Mat<f64>,
-    /// Outputs of the fitted model on the data's rows (K × p), quantized where its sensors are.
-    pub final_outputs: Mat<f64>,
-    /// The continuous quantities the fitted model's sensors read (K × p), before quantization.
-    pub final_sensed: Mat<f64>,
-    /// Half the quantization step per output (0 for a continuous sensor).
-    pub half_widths: Vec<f64>,
-    /// Output weights used.
-    pub weights: Vec<f64>,
+    pub initial: Model,
+    /// The model with the fitted shared values (and the first experiment's own values).
+    pub fitted: Model,
+    /// Per experiment.
+    pub experiments: Vec<ExperimentOutcome>,
 }
 
 impl FitOutcome {
-    /// Unweighted residual measured − fitted (K × p). On a quantized output a reading y is the
-    /// interval [y − Δ/2, y + Δ/2], and the residual is the distance of the model's continuous
-    /// output to it — what the fit minimised (`mem::Experiment::with_quantization`).
-    pub fn residual(&self, data: &Measurement) -> Mat<f64> {
-        Mat::from_fn(data.n_samples(), data.n_outputs(), |k, o| {
-            interval_residual(data.values()[(k, o)] - self.final_sensed[(k, o)], self.half_widths[o])
-        })
+    /// The first (or only) experiment.
+    pub fn first(&self) -> &ExperimentOutcome {
+        &self.experiments[0]
     }
 }
 
-/// The response model for `model` with `free` parameters: the exact exponential path when the
-/// model is linear, the ODE path otherwise.
-///
-/// # Errors
-/// Unknown parameter names.
-pub fn response_model(
-    model: &SlewingModel,
-    free: &[&str],
-) -> Result<Box<dyn ResponseModel + Send + Sync>, ModelError> {
-    Ok(if model.is_linear() {
-        Box::new(SlewingFitModel::new(model.clone(), free)?.response())
-    } else {
-        Box::new(NonlinearResponse::new(model.clone(), free)?)
-    })
-}
-
-/// Checks that the data's columns are the model's outputs (any order) and returns the data
-/// reordered to the model's output order.
+/// Checks that the data's columns hold the model's outputs and inputs (by name, in any order;
+/// other columns are not used) and returns the record with the outputs in the model's order and
+/// the inputs attached (held as the model says).
 ///
 /// # Errors
 /// [`ModelError::Columns`] naming both lists.
-pub fn align(model: &SlewingModel, data: &Measurement) -> Result<Measurement, ModelError> {
-    let wanted = model.output_names();
-    let have = data.names();
-    let mismatch =
-        || ModelError::Columns { data: have.to_vec(), model: wanted.iter().map(|s| s.to_string()).collect() };
-    if wanted.len() != have.len() || wanted.iter().any(|w| !have.iter().any(|h| h == w)) {
+pub fn align(model: &Model, data: &Measurement) -> Result<Measurement, ModelError> {
+    let outputs = model.output_names();
+    let inputs = model.input_names();
+    let mismatch = || ModelError::Columns {
+        data: data
+            .names()
+            .iter()
+            .cloned()
+            .chain(data.inputs().iter().flat_map(|i| i.names().to_vec()))
+            .collect(),
+        model: outputs.iter().chain(&inputs).cloned().collect(),
+    };
+    let data = match (data.inputs(), inputs.is_empty()) {
+        (None, false) => {
+            if inputs.iter().any(|i| !data.names().contains(i)) {
+                return Err(mismatch());
+            }
+            let refs: Vec<&str> = inputs.iter().map(|s| s.as_str()).collect();
+            data.clone().with_inputs(&refs, model.hold())?
+        }
+        (Some(given), _) if given.names() != inputs.as_slice() => return Err(mismatch()),
+        _ => data.clone(),
+    };
+    // Every output must be there (by name, in any order); other columns are not used.
+    if outputs.iter().any(|w| !data.names().contains(w)) {
         return Err(mismatch());
     }
-    Ok(data.select(&wanted)?)
+    let refs: Vec<&str> = outputs.iter().map(|s| s.as_str()).collect();
+    Ok(data.select(&refs)?)
 }
 
-/// The model's outputs on the data's rows (through the data's decimation), quantized where
-/// the model's sensors are, and the continuous quantities before quantization.
-fn outputs_on(model: &SlewingModel, data: &Measurement) -> Result<(Mat<f64>, Mat<f64>), ModelError> {
-    let response = response_model(model, &[])?;
+/// The model's outputs on the data's rows (through the data's decimation, driven by its
+/// inputs), quantized where the model's sensors are, and the continuous quantities before.
+fn outputs_on(model: &Model, data: &Measurement) -> Result<(Mat<f64>, Mat<f64>), ModelError> {
+    let response = model.response(&[])?;
     let sensed = sampled_response(response.as_ref(), data, &[])?.outputs;
     let mut quantized = sensed.clone();
     for (o, step) in model.quantization().into_iter().enumerate() {
@@ -122,40 +149,90 @@ fn outputs_on(model: &SlewingModel, data: &Measurement) -> Result<(Mat<f64>, Mat
     Ok((quantized, sensed))
 }
 
-/// Fits `model` to `data` (columns aligned by name).
+/// Fits `model` to one record.
+///
+/// # Errors
+/// As [`fit_experiments`].
+pub fn fit(model: &Model, data: &Measurement, request: &FitRequest) -> Result<FitOutcome, ModelError> {
+    fit_experiments(model, std::slice::from_ref(data), request)
+}
+
+/// Fits `model` to several records at once: shared parameters, and per-experiment ones.
 ///
 /// # Errors
 /// Column mismatch, unknown names, or failures of the model or the iteration.
-pub fn fit(model: &SlewingModel, data: &Measurement, request: &FitRequest) -> Result<FitOutcome, ModelError> {
-    let data = align(model, data)?;
-    let free: Vec<&str> = request.free.iter().map(|s| s.as_str()).collect();
-    let adapter = SlewingFitModel::new(model.clone(), &free)?;
-    let response = response_model(model, &free)?;
-    let experiment = if request.normalize {
-        Experiment::normalized(response.as_ref(), &data)
-    } else {
-        Experiment::new(response.as_ref(), &data)
-    };
-    let experiment = experiment.with_quantization(&model.quantization());
-    let (weights, half_widths) = (experiment.weights.clone(), experiment.half_widths.clone());
-    let problem = Problem::new(vec![experiment], adapter.parameters())?;
+pub fn fit_experiments(
+    model: &Model,
+    records: &[Measurement],
+    request: &FitRequest,
+) -> Result<FitOutcome, ModelError> {
+    let data = records.iter().map(|d| align(model, d)).collect::<Result<Vec<_>, _>>()?;
+    let shared: Vec<&str> = request.free.iter().map(|s| s.as_str()).collect();
+    let own: Vec<&str> = request.per_experiment.iter().map(|s| s.as_str()).collect();
+    if let Some(both) = own.iter().find(|o| shared.contains(o)) {
+        return Err(ModelError::UnknownParameter {
+            name: both.to_string(),
+            valid: "a parameter is either shared or per experiment, not both".into(),
+        });
+    }
+    let local: Vec<&str> = shared.iter().chain(&own).copied().collect();
+    let responses: Vec<Box<dyn ResponseModel + Send + Sync>> =
+        data.iter().map(|_| model.response(&local)).collect::<Result<_, _>>()?;
+    let mut parameters: Vec<Parameter> = model.parameters(&shared)?;
+    let own_parameters = model.parameters(&own)?;
+    let several = data.len() > 1;
+    let mut experiments = Vec::with_capacity(data.len());
+    for (e, (record, response)) in data.iter().zip(&responses).enumerate() {
+        let mut indices: Vec<usize> = (0..shared.len()).collect();
+        for p in &own_parameters {
+            indices.push(parameters.len());
+            let name = if several { format!("{}@{}", p.name, e + 1) } else { p.name.clone() };
+            parameters.push(Parameter { name, ..p.clone() });
+        }
+        let experiment = if request.normalize {
+            Experiment::normalized(response.as_ref(), record)
+        } else {
+            Experiment::new(response.as_ref(), record)
+        };
+        experiments.push(experiment.with_quantization(&model.quantization()).with_parameters(indices));
+    }
+    let settings: Vec<(Vec<f64>, Vec<f64>)> =
+        experiments.iter().map(|e| (e.weights.clone(), e.half_widths.clone())).collect();
+    let indices: Vec<Vec<usize>> =
+        experiments.iter().map(|e| e.parameters.clone().unwrap_or_default()).collect();
+    let problem = Problem::new(experiments, parameters)?;
     let report = Fit::new()
         .with_safeguard(request.safeguard)
         .with_derivative_check(request.derivative_check)
         .with_covariance(request.covariance)
         .with_max_iterations(request.max_iterations)?
         .run(&problem)?;
-    let fitted = adapter.model_at(&report.parameters)?;
-    let (initial_outputs, _) = outputs_on(model, &data)?;
-    let (final_outputs, final_sensed) = outputs_on(&fitted, &data)?;
+    let mut outcomes = Vec::with_capacity(data.len());
+    let mut fitted = None;
+    for (e, record) in data.into_iter().enumerate() {
+        let values: Vec<f64> = indices[e].iter().map(|&i| report.parameters[i]).collect();
+        let at = model.with_values(&local, &values)?;
+        let (initial_outputs, _) = outputs_on(model, &record)?;
+        let (final_outputs, final_sensed) = outputs_on(&at, &record)?;
+        let (weights, half_widths) = settings[e].clone();
+        let own_values = own.iter().zip(&values[shared.len()..]).map(|(n, v)| (n.to_string(), *v)).collect();
+        if fitted.is_none() {
+            fitted = Some(at);
+        }
+        outcomes.push(ExperimentOutcome {
+            data: record,
+            initial_outputs,
+            final_outputs,
+            final_sensed,
+            half_widths,
+            weights,
+            own: own_values,
+        });
+    }
     Ok(FitOutcome {
         report,
         initial: model.clone(),
-        fitted,
-        initial_outputs,
-        final_outputs,
-        final_sensed,
-        half_widths,
-        weights,
+        fitted: fitted.expect("at least one experiment"),
+        experiments: outcomes,
     })
 }

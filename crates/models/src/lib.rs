@@ -11,18 +11,25 @@
 //!   outputs and sensitivities come from the forward sensitivity equations integrated by diffsol,
 //!   with exact Jacobian products in num-dual;
 //! * [`simulate`]: a model's response, by whichever path it needs;
+//! * [`structure`]: a structure model file's free parameters as a `mem::StateSpaceModel`, its
+//!   expressions evaluated over num-dual for exact ∂A/∂P, ∂B/∂P, ∂C/∂P, ∂D/∂P, ∂x(0)/∂P;
+//! * [`model`]: both kinds behind one [`Model`], the kind chosen from the file in one place;
 //! * [`fit`]: fitting a model to a measured record (aligning its columns, weighting, the
 //!   quantized readings of its sensors), with the curves around the fit.
 
 pub mod fit;
+pub mod model;
 pub mod ode;
 pub mod simulate;
 pub mod slewing;
+pub mod structure;
 
-pub use fit::{FitOutcome, FitRequest, align, fit, response_model};
+pub use fit::{ExperimentOutcome, FitOutcome, FitRequest, align, fit, fit_experiments};
+pub use model::{ModeRow, Model, ModelKind};
 pub use ode::{NonlinearError, NonlinearResponse};
 pub use simulate::{simulate, simulate_model, simulate_sensors};
 pub use slewing::SlewingFitModel;
+pub use structure::StructureFitModel;
 
 /// What can go wrong between a model description and `mem`.
 #[derive(Debug, thiserror::Error)]
@@ -31,6 +38,31 @@ pub enum ModelError {
     /// The plant rejected something.
     #[error(transparent)]
     Plant(#[from] plant::PlantError),
+    /// The structure model file rejected something.
+    #[error(transparent)]
+    Structure(#[from] ::structure::StructureError),
+    /// A file could not be read.
+    #[error("cannot read {path}: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The system's error.
+        source: std::io::Error,
+    },
+    /// A parameter name the model does not have.
+    #[error("unknown parameter `{name}`; the model's parameters are {valid}")]
+    UnknownParameter {
+        /// The name given.
+        name: String,
+        /// The valid names.
+        valid: String,
+    },
+    /// A result that must be finite is not.
+    #[error("{what} is not finite (the model's matrices overflow); check the model's values")]
+    NonFinite {
+        /// What was computed.
+        what: String,
+    },
     /// The identification failed.
     #[error(transparent)]
     Mem(#[from] mem::MemError),

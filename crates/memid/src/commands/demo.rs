@@ -6,7 +6,7 @@ use crate::output::{era_json, era_table, fit_json, fit_table, kind, modal_json};
 use crate::progress::spinner;
 use crate::report::Report;
 use anyhow::Result;
-use discrepancy::{FitOutcome, FitRequest, fit};
+use models::{FitOutcome, FitRequest, Model, fit};
 use plant::{ModalRow, ModeKind, SlewingModel};
 use serde_json::json;
 use std::path::PathBuf;
@@ -129,7 +129,9 @@ pub fn run(args: Args) -> Result<()> {
     outputs.check_directory(&args.report)?;
     let full = mem::Measurement::from_csv(MEASURED_CSV, "fixtures/slewing_measured.csv")?;
     // The paper recorded at 128 Hz and identified at 12.8 Hz from the position response.
-    let (position_model, position_data) = prepare(model.clone(), full.clone(), Some("theta"), Some(10))?;
+    let (position_model, position_data) =
+        prepare(Model::Slewing(model.clone()), vec![full.clone()], Some("theta"), Some(10))?;
+    let position_data = position_data.into_iter().next().expect("one record");
     let mut request = FitRequest::new(&["cv"]);
     request.normalize = false; // one output: Eq. 22 exactly
     let bar = spinner("Run 1: fitting C_v", args.json);
@@ -151,8 +153,9 @@ pub fn run(args: Args) -> Result<()> {
         flexible.map_or(f64::NAN, |m| m.frequency_hz),
         flexible.map_or(f64::NAN, |m| m.damping_ratio),
     );
-    let run1_modes = run1.fitted.modal()?;
-    let run2_modes = run2.fitted.modal()?;
+    let slewing = |m: &Model| m.as_slewing().cloned().expect("the demo fits the slewing model");
+    let run1_modes = slewing(&run1.fitted).modal()?;
+    let run2_modes = slewing(&run2.fitted).modal()?;
     let rows = vec![
         ("Measurements".to_string(), measured),
         ("Run 1 initial".to_string(), servo_and_flexible(&initial_modes)),
@@ -161,15 +164,14 @@ pub fn run(args: Args) -> Result<()> {
     ];
     let t1 = table1(&run1, &run2);
     let t2 = table2(&rows);
-    let names = position_model.output_names();
     let document = json!({
-        "run1": fit_json(&run1, &names),
-        "run2": fit_json(&run2, &names),
+        "run1": fit_json(&run1),
+        "run2": fit_json(&run2),
         "era": era_json(&era_result),
         "modal": {
-            "initial": modal_json(&initial_modes),
-            "run1_final": modal_json(&run1_modes),
-            "run2_final": modal_json(&run2_modes),
+            "initial": modal_json(&Model::Slewing(model.clone()).modes()?),
+            "run1_final": modal_json(&run1.fitted.modes()?),
+            "run2_final": modal_json(&run2.fitted.modes()?),
         },
         "table2": rows.iter().map(|(name, (fs, zs, ff, zf))| json!({
             "row": name, "servo_frequency_hz": fs, "servo_damping_ratio": zs,
@@ -196,8 +198,8 @@ pub fn run(args: Args) -> Result<()> {
         era_table(&era_result)
     ));
     report.measured("fig3_measured", "Fig. 3 — measured time histories (128 Hz)", &full);
-    report.fit("fig4a_run1", "Fig. 4a/5a — Run 1", &position_data, &run1);
-    report.fit("fig4b_run2", "Fig. 4b/5b — Run 2", &position_data, &run2);
+    report.fit("fig4a_run1", "Fig. 4a/5a — Run 1", &run1, 0);
+    report.fit("fig4b_run2", "Fig. 4b/5b — Run 2", &run2, 0);
     report.json("demo.json", &document)?;
     let path = report.stage(&mut outputs)?;
     outputs.commit()?;

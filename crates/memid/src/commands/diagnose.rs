@@ -43,7 +43,7 @@ pub struct Args {
 }
 
 /// The diagnosis as JSON (docs/json.md).
-pub fn diagnosis_json(d: &Diagnosis, output_names: &[&str]) -> Value {
+pub fn diagnosis_json(d: &Diagnosis) -> Value {
     let chosen = d.chosen.map(|i| &d.candidates[i]);
     json!({
         "effect": d.effect(),
@@ -76,7 +76,7 @@ pub fn diagnosis_json(d: &Diagnosis, output_names: &[&str]) -> Value {
                 "frequency_hz": m.frequency_hz, "damping_ratio": m.damping_ratio, "contribution": m.contribution,
             })).collect::<Vec<_>>(),
         },
-        "baseline": fit_json(&d.baseline, output_names),
+        "baseline": fit_json(&d.baseline),
     })
 }
 
@@ -127,6 +127,9 @@ pub fn diagnosis_table(d: &Diagnosis) -> String {
 pub fn run(args: Args) -> Result<()> {
     let mut inputs = Inputs::default();
     let model = args.model.load(&mut inputs)?;
+    let Some(model) = model.as_slewing().cloned() else {
+        bail!("diagnose works on the slewing rig's model files; structure files are fitted with `memid fit`")
+    };
     let mut data = read_measurement(&args.data, &mut inputs)?;
     let mut outputs = Outputs::new(&inputs);
     let json_target = args.json.as_deref().map(Target::from_arg);
@@ -158,7 +161,7 @@ pub fn run(args: Args) -> Result<()> {
     let bar = spinner("diagnosing: baseline fit, localisation, candidate refits", quiet);
     let d = diagnose(&model, &data, &options)?;
     bar.finish_and_clear();
-    let json = diagnosis_json(&d, &model.output_names());
+    let json = diagnosis_json(&d);
     let mut messages = String::new();
     match &json_target {
         Some(target) => outputs.stage(target, (serde_json::to_string_pretty(&json)? + "\n").into_bytes())?,
@@ -171,16 +174,15 @@ pub fn run(args: Args) -> Result<()> {
         }
     }
     if let Some(dir) = &args.report {
-        let aligned = discrepancy::align(&model, &data)?;
         let mut report = Report::new(dir, "memid diagnose");
         report.text(&format!("```text\n{}```\n", diagnosis_table(&d)));
-        report.fit("baseline", "Baseline model", &aligned, &d.baseline);
+        report.fit("baseline", "Baseline model", &d.baseline, 0);
         if let Some(outcome) = d.chosen.and_then(|i| d.candidates[i].outcome.as_ref()) {
             report.fit(
                 "augmented",
                 &format!("With {}", d.candidates[d.chosen.unwrap_or(0)].label),
-                &aligned,
                 outcome,
+                0,
             );
         }
         report.json("diagnosis.json", &json)?;

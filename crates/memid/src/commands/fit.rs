@@ -5,23 +5,29 @@ use crate::output::{fit_json, fit_table};
 use crate::progress::spinner;
 use crate::report::Report;
 use anyhow::{Result, bail};
-use discrepancy::{FitRequest, fit};
 use mem::{Measurement, Safeguard};
-use plant::SlewingModel;
+use models::{FitRequest, Model, fit_experiments};
 use std::path::PathBuf;
 
-/// Fit the free parameters of a model to a measured free decay.
+/// Fit the free parameters of a model to one or more measured records (free decays, or forced
+/// responses whose CSV also holds the model's input columns).
 #[derive(clap::Args)]
 #[command(allow_negative_numbers = true)]
 pub struct Args {
     #[command(flatten)]
     model: super::model_args::ModelArgs,
-    /// Measured data (CSV with header t,<outputs>).
-    #[arg(long)]
-    data: PathBuf,
-    /// Parameters to tune, comma-separated (default: the model file's `free` list).
+    /// Measured data (CSV with header t,<outputs>[,<inputs>]); repeat for several experiments
+    /// of the same structure, each with its own rate, length and initial state.
+    #[arg(long, required = true)]
+    data: Vec<PathBuf>,
+    /// Parameters to tune, shared by every experiment, comma-separated (default: the model
+    /// file's free parameters).
     #[arg(long)]
     free: Option<String>,
+    /// Parameters estimated once per experiment (e.g. initial displacements), comma-separated;
+    /// reported as NAME@k for experiment k.
+    #[arg(long, value_name = "NAMES")]
+    per_experiment: Option<String>,
     /// Use only these outputs, comma-separated (e.g. `theta`, as the paper did).
     #[arg(long)]
     outputs: Option<String>,
@@ -76,25 +82,37 @@ impl From<CovarianceArg> for mem::Covariance {
     }
 }
 
-/// Restricts model and data to `outputs` (if given) and decimates the data.
+/// Restricts model and data to `outputs` (if given), aligns the data with the model (outputs in
+/// its order, its inputs attached) and decimates it.
 pub fn prepare(
-    model: SlewingModel,
-    data: Measurement,
+    model: Model,
+    data: Vec<Measurement>,
     outputs: Option<&str>,
     decimate: Option<usize>,
-) -> Result<(SlewingModel, Measurement)> {
-    let (model, data) = match outputs {
-        Some(list) => {
+) -> Result<(Model, Vec<Measurement>)> {
+    let model = match (outputs, &model) {
+        (Some(list), Model::Slewing(m)) => {
             let chosen = names(list);
             let refs: Vec<&str> = chosen.iter().map(|s| s.as_str()).collect();
-            (model.select_outputs(&refs)?, data.select(&refs)?)
+            Model::Slewing(m.select_outputs(&refs)?)
         }
-        None => (model, data),
+        (Some(_), Model::Structure(_)) => {
+            bail!(
+                "--outputs selects sensors of the slewing rig; a structure file measures what its `outputs` list"
+            )
+        }
+        (None, _) => model,
     };
-    let data = match decimate {
-        Some(r) => data.decimate(r)?,
-        None => data,
-    };
+    let data = data
+        .iter()
+        .map(|d| {
+            let aligned = models::align(&model, d)?;
+            Ok(match decimate {
+                Some(r) => aligned.decimate(r)?,
+                None => aligned,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
     Ok((model, data))
 }
 
@@ -102,7 +120,7 @@ pub fn prepare(
 pub fn run(args: Args) -> Result<()> {
     let mut inputs = Inputs::default();
     let model = args.model.load(&mut inputs)?;
-    let data = read_measurement(&args.data, &mut inputs)?;
+    let data = args.data.iter().map(|d| read_measurement(d, &mut inputs)).collect::<Result<Vec<_>>>()?;
     let mut outputs = Outputs::new(&inputs);
     let json_target = args.json.as_deref().map(Target::from_arg);
     let model_target = args.output.as_deref().map(Target::from_arg);
@@ -115,12 +133,14 @@ pub fn run(args: Args) -> Result<()> {
     let (model, data) = prepare(model, data, args.outputs.as_deref(), args.decimate)?;
     let free = match &args.free {
         Some(list) => names(list),
-        None => model.file().free.clone(),
+        None => model.file_free(),
     };
-    if free.is_empty() {
-        bail!("no parameters to fit: give --free NAME[,NAME...] or a `free` list in the model file");
+    let per_experiment = args.per_experiment.as_deref().map(names).unwrap_or_default();
+    if free.is_empty() && per_experiment.is_empty() {
+        bail!("no parameters to fit: give --free NAME[,NAME...] or mark parameters free in the model file");
     }
     let mut request = FitRequest::new(&free.iter().map(|s| s.as_str()).collect::<Vec<_>>());
+    request.per_experiment = per_experiment;
     request.normalize = !args.unweighted;
     request.safeguard = if args.plain { Safeguard::None } else { Safeguard::LevenbergMarquardt };
     if args.no_derivative_check {
@@ -130,21 +150,23 @@ pub fn run(args: Args) -> Result<()> {
     request.covariance = args.covariance.into();
     let quiet = json_target.is_some();
     let bar = spinner(&format!("fitting {}", free.join(", ")), quiet);
-    let outcome = fit(&model, &data, &request)?;
+    let outcome = fit_experiments(&model, &data, &request)?;
     bar.finish_and_clear();
-    let json = fit_json(&outcome, &model.output_names());
+    let json = fit_json(&outcome);
     let mut messages = String::new();
     match &json_target {
         Some(target) => outputs.stage(target, (serde_json::to_string_pretty(&json)? + "\n").into_bytes())?,
         None => {
-            messages += &format!(
-                "MEM fit of `{}` to {} ({} samples at {:.4} s, outputs {})\n",
-                model.file().name,
-                args.data.display(),
-                data.n_samples(),
-                data.interval(),
-                model.output_names().join(", ")
-            );
+            for (path, record) in args.data.iter().zip(&data) {
+                messages += &format!(
+                    "MEM fit of `{}` to {} ({} samples at {:.4} s, outputs {})\n",
+                    model.name(),
+                    path.display(),
+                    record.n_samples(),
+                    record.interval(),
+                    model.output_names().join(", ")
+                );
+            }
             messages += &fit_table(&outcome.report);
         }
     }
@@ -157,8 +179,11 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(dir) = &args.report {
         let mut report = Report::new(dir, "memid fit");
         report.text(&format!("```text\n{}```\n", fit_table(&outcome.report)));
-        report.measured("measured", "Measured time histories", &data);
-        report.fit("fit", "Fit", &data, &outcome);
+        for (e, experiment) in outcome.experiments.iter().enumerate() {
+            let suffix = if outcome.experiments.len() > 1 { format!("_{}", e + 1) } else { String::new() };
+            report.measured(&format!("measured{suffix}"), "Measured time histories", &experiment.data);
+            report.fit(&format!("fit{suffix}"), "Fit", &outcome, e);
+        }
         report.json("fit.json", &json)?;
         let path = report.stage(&mut outputs)?;
         if !quiet {

@@ -18,17 +18,10 @@ pub struct Args {
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
     let model = args.model.load(&mut Inputs::default())?;
-    let rows = model.modal()?;
-    if let Some(row) = rows.iter().find(|r| !(r.frequency_hz.is_finite() && r.damping_ratio.is_finite())) {
-        anyhow::bail!(
-            "the model's {} mode is not finite ({} Hz): its matrices overflow; check the model's values",
-            crate::output::kind(row.kind),
-            row.frequency_hz
-        );
-    }
+    let rows = model.modes()?;
     if args.json {
         print(&(serde_json::to_string_pretty(&modal_json(&rows))? + "\n"))
     } else {
-        print(&modal_table(&rows))
+        print(&modal_table(&rows, &model.coordinates()))
     }
 }

@@ -2,7 +2,7 @@
 
 use crate::io::{Inputs, load_model};
 use anyhow::Result;
-use plant::SlewingModel;
+use models::Model;
 use std::path::PathBuf;
 
 /// `--model FILE [--set NAME=VALUE ...]`.
@@ -18,7 +18,7 @@ pub struct ModelArgs {
 
 impl ModelArgs {
     /// Loads the model, applies the overrides and records the file as an input.
-    pub fn load(&self, inputs: &mut Inputs) -> Result<SlewingModel> {
+    pub fn load(&self, inputs: &mut Inputs) -> Result<Model> {
         load_model(&self.model, &self.set, inputs)
     }
 }

@@ -7,7 +7,7 @@ pub use files::{BrokenPipe, Inputs, Outputs, Target, install_signal_cleanup, pri
 
 use anyhow::{Result, anyhow, bail};
 use mem::Measurement;
-use plant::SlewingModel;
+use models::Model;
 use std::path::Path;
 
 /// Reads a CSV with header `t,<columns>` into a measurement; errors name the file, line and column.
@@ -16,10 +16,10 @@ pub fn read_measurement(path: &Path, inputs: &mut Inputs) -> Result<Measurement>
     Ok(Measurement::read_csv(path)?)
 }
 
-/// Loads a model file and applies `--set NAME=VALUE` assignments.
-pub fn load_model(path: &Path, sets: &[String], inputs: &mut Inputs) -> Result<SlewingModel> {
+/// Loads a model file of either kind and applies `--set NAME=VALUE` assignments.
+pub fn load_model(path: &Path, sets: &[String], inputs: &mut Inputs) -> Result<Model> {
     inputs.add(path);
-    let mut model = SlewingModel::load(path)?;
+    let mut model = Model::load(path)?;
     apply_sets(&mut model, sets)?;
     Ok(model)
 }
@@ -38,11 +38,10 @@ pub fn parse_set(set: &str) -> Result<(&str, f64)> {
 }
 
 /// Applies `NAME=VALUE` assignments; errors name the assignment.
-pub fn apply_sets(model: &mut SlewingModel, sets: &[String]) -> Result<()> {
+pub fn apply_sets(model: &mut Model, sets: &[String]) -> Result<()> {
     for set in sets {
         let (name, value) = parse_set(set)?;
-        let id = model.parameter(name).map_err(|e| anyhow!("--set {set}: {e}"))?;
-        model.set(id, value).map_err(|e| anyhow!("--set {set}: {e}"))?;
+        model.set(name, value).map_err(|e| anyhow!("--set {set}: {e}"))?;
     }
     Ok(())
 }
