@@ -5,7 +5,7 @@ use crate::stats::ljung_box;
 use mem::Measurement;
 
 /// How one output's residual looks.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize)]
 pub struct OutputDiscrepancy {
     /// Output name.
     pub name: String,
@@ -20,7 +20,7 @@ pub struct OutputDiscrepancy {
 }
 
 /// The localisation of a discrepancy.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize)]
 pub struct Localisation {
     /// Per output.
     pub outputs: Vec<OutputDiscrepancy>,

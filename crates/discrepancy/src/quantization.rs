@@ -1,47 +1,150 @@
-//! Detecting a quantized sensor: do the samples sit on a lattice kΔ (plus noise)?
+//! Is a sensor quantized? A lattice in its raw readings, seen while the signal moves.
 //!
-//! The Rayleigh statistic R(Δ) = |mean_k exp(2πi y_k/Δ)| is ≈ exp(−2π²σ²/Δ²) for samples on a
-//! lattice of step Δ blurred by noise σ, and ≈ 1/√n for samples that are not; 2nR² is χ²₂ under
-//! the no-lattice hypothesis, so P(2nR² > x) = e^{−x/2}.
+//! Two forms are told apart, as a quantizer can sit before or after the noise:
+//! - **exact**: every reading is y = c + jΔ to rounding precision (noise added before the
+//!   quantizer, as in an ADC). A continuous measurement model gives such a record probability
+//!   zero, so the lattice itself is the evidence; it must span several levels, not only the
+//!   settled tail.
+//! - **blurred**: readings y = c + jΔ + e (noise after the quantizer). Over the samples taken
+//!   while the signal moves (the settled tail excluded, where values crowd near rest and any
+//!   step would look like a lattice), R(Δ) = |mean exp(2πi y/Δ)| is ≈ exp(−2π²σ²/Δ²) on a
+//!   lattice blurred by noise σ and ≈ 1/√n otherwise. The step and phase are found on the first
+//!   half of those samples and confirmed on the second ([`blurred`]).
+//!
+//! Either way the step matters only if it is comparable to the noise or larger (a record
+//! printed with six decimals lies on a 10⁻⁶ lattice too); [`Lattice::matters`] says so.
 
-/// A detected lattice.
-#[derive(Clone, Copy, Debug)]
+use serde::Serialize;
+
+/// How the lattice shows.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "form")]
+pub enum LatticeForm {
+    /// Every reading lies on the lattice to rounding precision; `levels` distinct values.
+    Exact {
+        /// Distinct levels the readings take.
+        levels: usize,
+    },
+    /// The moving samples crowd around the lattice: found on the first half of them, its phase
+    /// holds on the second half by `z` standard errors.
+    Blurred {
+        /// The confirmation's z (batch-means standard error).
+        z: f64,
+        /// The samples it was confirmed on.
+        samples: usize,
+    },
+}
+
+/// A lattice found in one sensor's readings.
+#[derive(Clone, Copy, Debug, Serialize)]
 pub struct Lattice {
     /// Step Δ.
     pub step: f64,
-    /// Its standard error σΔ/√Σy² (σ from R).
-    pub std_error: f64,
-    /// 2nR² at the step: ≫ 40 means a lattice beyond doubt.
-    pub statistic: f64,
+    /// How it shows.
+    pub form: LatticeForm,
+    /// The sensor noise σ (before or after the quantizer) it leaves: from the blur of a blurred
+    /// lattice, from the residual variance less Δ²/12 for an exact one.
+    pub noise: f64,
 }
 
-fn rayleigh(values: &[f64], step: f64) -> f64 {
+impl Lattice {
+    /// The step is comparable to the noise or larger (Δ ≥ σ/2): the rounding is a visible part
+    /// of the measurement, not a printing precision far below the noise.
+    pub fn matters(&self) -> bool {
+        self.step >= 0.5 * self.noise
+    }
+}
+
+/// The step of an exact lattice, with the number of distinct levels, if every value is
+/// c + jΔ to 10⁻⁶Δ (plus 10⁻¹² of the largest magnitude) and there are at least `min_levels`
+/// levels among at most 90 % distinct values.
+pub fn exact(values: &[f64], min_levels: usize) -> Option<(f64, usize)> {
+    let scale = values.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    if values.len() < 10 || !(scale > 0.0 && scale.is_finite()) {
+        return None;
+    }
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let tie = 1e-12 * scale;
+    let mut levels: Vec<f64> = Vec::new();
+    for v in sorted {
+        if levels.last().is_none_or(|l| v - l > tie) {
+            levels.push(v);
+        }
+    }
+    if levels.len() < min_levels.max(3) || levels.len() as f64 > 0.9 * values.len() as f64 {
+        return None;
+    }
+    let smallest = levels.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
+    let origin = levels[0];
+    (1..=8).map(|d| smallest / d as f64).find_map(|step| {
+        let tolerance = 1e-6 * step + tie;
+        let on = levels.iter().all(|v| {
+            let j = (v - origin) / step;
+            (j - j.round()).abs() * step <= tolerance
+        });
+        on.then_some((step, levels.len()))
+    })
+}
+
+/// The mean of exp(2πi y/Δ).
+fn phasor(values: &[f64], step: f64) -> (f64, f64) {
     let (mut c, mut s) = (0.0, 0.0);
     for v in values {
         let phase = 2.0 * std::f64::consts::PI * v / step;
         c += phase.cos();
         s += phase.sin();
     }
-    (c * c + s * s).sqrt() / values.len() as f64
+    let n = values.len().max(1) as f64;
+    (c / n, s / n)
 }
 
-/// Scans steps from `min_step` to 5 % of the signal's range; returns the best lattice if its
-/// statistic exceeds `threshold` (40 keeps the false-alarm rate of a 400-step scan below 1e-6).
-pub fn detect(values: &[f64], min_step: f64, threshold: f64) -> Option<Lattice> {
+fn rayleigh(values: &[f64], step: f64) -> f64 {
+    let (c, s) = phasor(values, step);
+    (c * c + s * s).sqrt()
+}
+
+/// The samples taken while the signal moves: from the start to the last sample farther from
+/// the rest value (the median of the last tenth of the record) than a tenth of the largest
+/// excursion. Chosen by time, not by value, so that no cut in value shapes their distribution.
+pub fn moving(values: &[f64]) -> Vec<f64> {
     let n = values.len();
-    let (lo, hi) = values.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(*v), b.max(*v)));
-    let max_step = 0.05 * (hi - lo);
-    if !(max_step > min_step && min_step > 0.0) {
+    let mut tail: Vec<f64> = values[n - (n / 10).max(1)..].to_vec();
+    tail.sort_by(f64::total_cmp);
+    let rest = tail[tail.len() / 2];
+    let reach = values.iter().fold(0.0f64, |a, v| a.max((v - rest).abs()));
+    let end = values.iter().rposition(|v| (v - rest).abs() > 0.1 * reach).map_or(0, |k| k + 1);
+    values[..end].to_vec()
+}
+
+/// A blurred lattice, found on the first half of the moving samples and confirmed on the
+/// second: the step Δ maximising R over the first half (from `min_step` to a fortieth of their
+/// range, so that the signal's own distribution is smooth on the scale of a step; then the
+/// largest multiple of it that keeps R), and the lattice's phase φ; on the second half, the
+/// mean of cos(2πy/Δ − φ), which is 0 without a lattice, over its standard error by batch means
+/// (20 batches, so that coloured noise does not pass for evidence). A lattice that is a trace
+/// of the signal's distribution in one half (its turning points, its approach to rest) does
+/// not hold its phase in the other, where the amplitudes differ.
+///
+/// Returns (step, z, samples confirmed on, blur σ) if z ≥ `threshold`.
+pub fn blurred(values: &[f64], min_step: f64, threshold: f64) -> Option<(f64, f64, usize, f64)> {
+    let samples = moving(values);
+    let n = samples.len();
+    let (first, second) = samples.split_at(n / 2);
+    let (lo, hi) =
+        samples.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(*v), b.max(*v)));
+    let max_step = (hi - lo) / 40.0;
+    if n < 200 || !(max_step > min_step && min_step > 0.0) {
         return None;
     }
-    let ratio = (max_step / min_step).powf(1.0 / 400.0);
+    let grid = 800;
+    let ratio = (max_step / min_step).powf(1.0 / grid as f64);
     let mut best = (0.0, min_step);
     let mut step = min_step;
-    while step <= max_step {
-        let r = rayleigh(values, step);
-        // Sub-multiples of the true step give the same R; prefer the largest step within 5 %.
-        if r > best.0 * 1.05 || (r > 0.95 * best.0 && step > best.1) {
-            best = (r.max(best.0), step);
+    for _ in 0..=grid {
+        let r = rayleigh(first, step);
+        if r > best.0 {
+            best = (r, step);
         }
         step *= ratio;
     }
@@ -50,19 +153,103 @@ pub fn detect(values: &[f64], min_step: f64, threshold: f64) -> Option<Lattice> 
     for _ in 0..60 {
         let m1 = b - (b - a) / 1.618_033_988_75;
         let m2 = a + (b - a) / 1.618_033_988_75;
-        if rayleigh(values, m1) > rayleigh(values, m2) {
+        if rayleigh(first, m1) > rayleigh(first, m2) {
             b = m2;
         } else {
             a = m1;
         }
     }
-    let step = 0.5 * (a + b);
-    let r = rayleigh(values, step);
-    let statistic = 2.0 * n as f64 * r * r;
-    if statistic < threshold {
-        return None;
+    let mut step = 0.5 * (a + b);
+    let r = rayleigh(first, step);
+    // A sub-multiple of the true step shows the same R: take the largest multiple that keeps it.
+    if let Some(k) = (2..=8)
+        .rev()
+        .find(|&k| k as f64 * step <= (hi - lo) / 8.0 && rayleigh(first, k as f64 * step) >= 0.9 * r)
+    {
+        step *= k as f64;
     }
-    let sigma = step / (2.0 * std::f64::consts::PI) * (-2.0 * r.ln()).max(0.0).sqrt();
-    let sum_sq: f64 = values.iter().map(|v| v * v).sum();
-    Some(Lattice { step, std_error: sigma * step / sum_sq.sqrt().max(f64::MIN_POSITIVE), statistic })
+    let (c, s) = phasor(first, step);
+    let phase = s.atan2(c);
+    let projections: Vec<f64> =
+        second.iter().map(|v| (2.0 * std::f64::consts::PI * v / step - phase).cos()).collect();
+    let batches = 20;
+    let size = projections.len() / batches;
+    let means: Vec<f64> = (0..batches)
+        .map(|b| projections[b * size..(b + 1) * size].iter().sum::<f64>() / size as f64)
+        .collect();
+    let mean = means.iter().sum::<f64>() / batches as f64;
+    let spread = (means.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (batches - 1) as f64).sqrt();
+    let z = mean / (spread / (batches as f64).sqrt()).max(f64::MIN_POSITIVE);
+    let blur = step / (2.0 * std::f64::consts::PI) * (-2.0 * mean.clamp(1e-300, 1.0).ln()).sqrt();
+    (z >= threshold).then_some((step, z, second.len(), blur))
+}
+
+/// The lattice of one sensor's raw readings, if there is one: exact first, else blurred.
+/// `residual_variance` is the variance of the readings about the fitted model's output (for the
+/// noise an exact lattice leaves); `threshold` the blurred statistic needed.
+pub fn detect(values: &[f64], residual_variance: f64, threshold: f64) -> Option<Lattice> {
+    if let Some((step, levels)) = exact(values, 10) {
+        let noise = (residual_variance - step * step / 12.0).max(0.0).sqrt();
+        return Some(Lattice { step, form: LatticeForm::Exact { levels }, noise });
+    }
+    let range = values.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let min_step = (0.5 * residual_variance.sqrt()).max(1e-6 * range);
+    blurred(values, min_step, threshold).map(|(step, z, samples, noise)| Lattice {
+        step,
+        form: LatticeForm::Blurred { z, samples },
+        noise,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    fn decay(n: usize) -> Vec<f64> {
+        (0..n).map(|k| 0.5 * (-(k as f64) / 400.0).exp() * (k as f64 * 0.05).cos()).collect()
+    }
+
+    #[test]
+    fn an_adc_record_is_an_exact_lattice_and_a_continuous_one_is_not() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+        let step = 0.004;
+        let clean = decay(3000);
+        let adc: Vec<f64> = clean
+            .iter()
+            .map(|v| step * ((v + 0.001 * rng.sample::<f64, _>(rand_distr::StandardNormal)) / step).round())
+            .collect();
+        let (found, levels) = exact(&adc, 10).expect("a lattice");
+        assert!((found / step - 1.0).abs() < 1e-9, "{found}");
+        assert!(levels > 100);
+        let noisy: Vec<f64> =
+            clean.iter().map(|v| v + 0.001 * rng.sample::<f64, _>(rand_distr::StandardNormal)).collect();
+        assert!(exact(&noisy, 10).is_none());
+        // Printing precision: a lattice of 10⁻⁶, far below the noise, does not matter.
+        let printed: Vec<f64> = noisy.iter().map(|v| (v * 1e6).round() / 1e6).collect();
+        assert!(detect(&printed, 1e-6, 8.0).is_none_or(|l| !l.matters()));
+        let adc = detect(&adc, 1e-6 + step * step / 12.0, 8.0).expect("the ADC lattice");
+        assert!(adc.matters());
+    }
+
+    #[test]
+    fn a_settled_tail_is_not_a_lattice_but_a_blurred_lattice_while_moving_is() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(5);
+        // A decay that settles for two thirds of the record: noise crowding near rest.
+        let clean: Vec<f64> = (0..3000)
+            .map(|k| if k < 1000 { 0.5 * (k as f64 * 0.02).cos() * (1.0 - k as f64 / 1000.0) } else { 0.0 })
+            .collect();
+        let noisy: Vec<f64> =
+            clean.iter().map(|v| v + 0.001 * rng.sample::<f64, _>(rand_distr::StandardNormal)).collect();
+        assert!(blurred(&noisy, 5e-4, 8.0).is_none());
+        let step = 0.01;
+        let after: Vec<f64> = clean
+            .iter()
+            .map(|v| step * (v / step).round() + 0.001 * rng.sample::<f64, _>(rand_distr::StandardNormal))
+            .collect();
+        let (found, z, _, blur) = blurred(&after, 5e-4, 8.0).expect("a blurred lattice");
+        assert!((found / step - 1.0).abs() < 0.01, "{found}");
+        assert!(z > 20.0, "{z}");
+        assert!((blur / 0.001 - 1.0).abs() < 0.3, "{blur}");
+    }
 }

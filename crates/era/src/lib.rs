@@ -49,7 +49,7 @@ pub enum EraError {
 }
 
 /// One identified mode (Im s ≥ 0).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize)]
 pub struct EraMode {
     /// Undamped natural frequency \[Hz\].
     pub frequency_hz: f64,
@@ -66,7 +66,7 @@ pub struct EraMode {
 }
 
 /// The result of ERA.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize)]
 pub struct EraResult {
     /// Modes sorted by frequency.
     pub modes: Vec<EraMode>,

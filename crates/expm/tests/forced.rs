@@ -34,8 +34,18 @@ fn respond(p: &[f64], hold: Hold, h: f64, n: usize, with_parameters: bool) -> Re
     let (m1, m2) = (1.0, 0.5);
     let da = vec![
         mat![[0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0], [-1.0 / m1, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0]],
-        mat![[0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0], [-1.0 / m1, 1.0 / m1, 0.0, 0.0], [1.0 / m2, -1.0 / m2, 0.0, 0.0]],
-        mat![[0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0], [0.0, 0.0, -1.0 / m1, 0.0], [0.0, 0.0, 0.0, -1.0 / m2]],
+        mat![
+            [0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0],
+            [-1.0 / m1, 1.0 / m1, 0.0, 0.0],
+            [1.0 / m2, -1.0 / m2, 0.0, 0.0]
+        ],
+        mat![
+            [0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, -1.0 / m1, 0.0],
+            [0.0, 0.0, 0.0, -1.0 / m2]
+        ],
     ];
     let dc = vec![
         mat![[0.0, 0.0, 0.0, 0.0], [-1.0 / m1, 0.0, 0.0, 0.0]],
@@ -111,7 +121,8 @@ fn zero_and_first_order_holds_match_an_independent_integration() {
         }
     }
     // The two holds differ (the test can tell them apart).
-    let (zoh, foh) = (respond(&P, Hold::Zero, 0.05, 100, false), respond(&P, Hold::FirstOrder, 0.05, 100, false));
+    let (zoh, foh) =
+        (respond(&P, Hold::Zero, 0.05, 100, false), respond(&P, Hold::FirstOrder, 0.05, 100, false));
     assert!((&zoh.outputs - &foh.outputs).norm_max() > 1e-4);
 }
 

@@ -162,7 +162,17 @@ pub(crate) fn evaluate(problem: &Problem<'_>, p: &[f64]) -> Result<Evaluation, M
                 chunk[o] = interval_residual(m - y, half_width);
             }
         }
-        let row_scales: Option<Vec<f64>> = e.data.decimation().map(|d| d.row_scales().collect());
+        // Per row: the decimation's edge weights times the sample weights.
+        let row_scales: Option<Vec<f64>> = match (e.data.decimation(), &e.sample_weights) {
+            (None, None) => None,
+            (d, w) => {
+                let mut scales: Vec<f64> = d.map_or_else(|| vec![1.0; k], |d| d.row_scales().collect());
+                if let Some(w) = w {
+                    scales.iter_mut().zip(w).for_each(|(s, w)| *s *= w);
+                }
+                Some(scales)
+            }
+        };
         let scale = |values: &mut [f64]| {
             scale_rows(values, &e.weights);
             if let Some(scales) = &row_scales {

@@ -18,6 +18,9 @@ pub struct Experiment<'a> {
     /// model takes the whole vector). Several experiments share physical parameters and keep
     /// their own, e.g. each its own initial state.
     pub parameters: Option<Vec<usize>>,
+    /// A weight per sample (row of the record), multiplying its residuals and sensitivities;
+    /// 0 leaves a sample out (a held-out block). None: every sample counts.
+    pub sample_weights: Option<Vec<f64>>,
 }
 
 impl<'a> Experiment<'a> {
@@ -29,6 +32,7 @@ impl<'a> Experiment<'a> {
             weights: vec![1.0; data.n_outputs()],
             half_widths: vec![0.0; data.n_outputs()],
             parameters: None,
+            sample_weights: None,
         }
     }
 
@@ -44,6 +48,12 @@ impl<'a> Experiment<'a> {
     /// inside the interval carry no sensitivity.
     pub fn with_quantization(mut self, steps: &[Option<f64>]) -> Self {
         self.half_widths = steps.iter().map(|s| s.map_or(0.0, |d| 0.5 * d)).collect();
+        self
+    }
+
+    /// Weights per sample (0 leaves a sample out of the fit, e.g. to score a prediction of it).
+    pub fn with_sample_weights(mut self, weights: Vec<f64>) -> Self {
+        self.sample_weights = Some(weights);
         self
     }
 
@@ -112,6 +122,14 @@ impl<'a> Experiment<'a> {
         {
             return Err(MemError::Shape(format!(
                 "experiment {index}: need one finite quantization step ≥ 0 per output"
+            )));
+        }
+        if let Some(w) = &self.sample_weights
+            && (w.len() != self.data.n_samples() || w.iter().any(|v| !(v.is_finite() && *v >= 0.0)))
+        {
+            return Err(MemError::Shape(format!(
+                "experiment {index}: need one finite sample weight ≥ 0 per sample ({})",
+                self.data.n_samples()
             )));
         }
         if self.data.start() < 0.0 {

@@ -19,7 +19,8 @@ fn memid(args: &[&str]) -> Output {
 }
 
 /// The truth of the independent records (fixtures/independent/README.md).
-const TRUTH: [(&str, f64); 5] = [("k1", 2.62e6), ("k2", 2.16e6), ("k3", 1.96e6), ("alpha", 0.42), ("beta", 1.18e-3)];
+const TRUTH: [(&str, f64); 5] =
+    [("k1", 2.62e6), ("k2", 2.16e6), ("k3", 1.96e6), ("alpha", 0.42), ("beta", 1.18e-3)];
 
 /// Fits and checks every parameter within 2 % and 3 standard errors of the truth.
 fn fit_recovers_truth(model: &str, data: &[&str]) {
@@ -65,7 +66,8 @@ fn modal_gives_the_independent_frequencies_and_shapes() {
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     let v: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
     // Nominal undamped frequencies and Rayleigh damping ratios from the independent program.
-    let expected = [(3.4139699088, 0.0221476404), (9.0887311061, 0.0389747209), (13.3431801825, 0.0546350108)];
+    let expected =
+        [(3.4139699088, 0.0221476404), (9.0887311061, 0.0389747209), (13.3431801825, 0.0546350108)];
     for (i, (f, z)) in expected.iter().enumerate() {
         let mode = &v["modes"][i];
         assert!((mode["frequency_hz"].as_f64().unwrap() / f - 1.0).abs() < 1e-8, "{mode}");
@@ -118,8 +120,22 @@ fn simulate_drives_a_forced_structure_and_its_output_fits_back() {
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(text.starts_with("t,u,a1,a2,a3\n"), "{}", &text[..40]);
     // Noise-free and simulated by the same model: fitting k2 back from the nominal value.
-    let run = memid(&["fit", "--model", &fixture("shear_building_forced.ron"), "--data", out.to_str().unwrap(), "--free", "k2", "--json", "-"]);
+    let run = memid(&[
+        "fit",
+        "--model",
+        &fixture("shear_building_forced.ron"),
+        "--data",
+        out.to_str().unwrap(),
+        "--free",
+        "k2",
+        "--json",
+        "-",
+    ]);
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     let v: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
-    assert!((v["parameters"][0]["final"].as_f64().unwrap() / 2.0e6 - 1.0).abs() < 1e-8, "{}", v["parameters"][0]);
+    assert!(
+        (v["parameters"][0]["final"].as_f64().unwrap() / 2.0e6 - 1.0).abs() < 1e-8,
+        "{}",
+        v["parameters"][0]
+    );
 }

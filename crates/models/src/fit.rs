@@ -28,6 +28,11 @@ pub struct FitRequest {
     pub covariance: Covariance,
     /// Iteration cap.
     pub max_iterations: usize,
+    /// Per experiment, a weight per sample (0 leaves a sample out, e.g. a held-out block);
+    /// empty: every sample of every experiment counts.
+    pub sample_weights: Vec<Vec<f64>>,
+    /// The ODE solver's relative tolerance for a nonlinear model (None: its default, 10⁻⁹).
+    pub ode_tolerance: Option<f64>,
 }
 
 impl FitRequest {
@@ -42,6 +47,8 @@ impl FitRequest {
             derivative_check: DerivativeCheck::Error,
             covariance: Covariance::Auto,
             max_iterations: 100,
+            sample_weights: Vec::new(),
+            ode_tolerance: None,
         }
     }
 }
@@ -139,7 +146,7 @@ fn outputs_on(model: &Model, data: &Measurement) -> Result<(Mat<f64>, Mat<f64>),
     let response = model.response(&[])?;
     let sensed = sampled_response(response.as_ref(), data, &[])?.outputs;
     let mut quantized = sensed.clone();
-    for (o, step) in model.quantization().into_iter().enumerate() {
+    for (o, step) in reading_steps(model, data).into_iter().enumerate() {
         if let Some(step) = step {
             for k in 0..quantized.nrows() {
                 quantized[(k, o)] = step * (quantized[(k, o)] / step).round();
@@ -147,6 +154,14 @@ fn outputs_on(model: &Model, data: &Measurement) -> Result<(Mat<f64>, Mat<f64>),
         }
     }
     Ok((quantized, sensed))
+}
+
+/// The quantization steps that apply to a record's rows: the model's, on raw readings; none on a
+/// decimated record, whose rows are filtered averages of readings (the rounding is part of
+/// their noise, not an interval each row lies in).
+fn reading_steps(model: &Model, data: &Measurement) -> Vec<Option<f64>> {
+    let steps = model.quantization();
+    if data.decimation().is_some() { vec![None; steps.len()] } else { steps }
 }
 
 /// Fits `model` to one record.
@@ -177,10 +192,18 @@ pub fn fit_experiments(
     }
     let local: Vec<&str> = shared.iter().chain(&own).copied().collect();
     let responses: Vec<Box<dyn ResponseModel + Send + Sync>> =
-        data.iter().map(|_| model.response(&local)).collect::<Result<_, _>>()?;
+        data.iter().map(|_| model.response_with(&local, request.ode_tolerance)).collect::<Result<_, _>>()?;
     let mut parameters: Vec<Parameter> = model.parameters(&shared)?;
     let own_parameters = model.parameters(&own)?;
     let several = data.len() > 1;
+    if !request.sample_weights.is_empty() && request.sample_weights.len() != data.len() {
+        return Err(mem::MemError::Shape(format!(
+            "sample weights for {} experiments, but {} records",
+            request.sample_weights.len(),
+            data.len()
+        ))
+        .into());
+    }
     let mut experiments = Vec::with_capacity(data.len());
     for (e, (record, response)) in data.iter().zip(&responses).enumerate() {
         let mut indices: Vec<usize> = (0..shared.len()).collect();
@@ -194,7 +217,12 @@ pub fn fit_experiments(
         } else {
             Experiment::new(response.as_ref(), record)
         };
-        experiments.push(experiment.with_quantization(&model.quantization()).with_parameters(indices));
+        let mut experiment =
+            experiment.with_quantization(&reading_steps(model, record)).with_parameters(indices);
+        if let Some(w) = request.sample_weights.get(e) {
+            experiment = experiment.with_sample_weights(w.clone());
+        }
+        experiments.push(experiment);
     }
     let settings: Vec<(Vec<f64>, Vec<f64>)> =
         experiments.iter().map(|e| (e.weights.clone(), e.half_widths.clone())).collect();

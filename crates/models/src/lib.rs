@@ -20,6 +20,7 @@
 pub mod fit;
 pub mod model;
 pub mod ode;
+pub mod sensors;
 pub mod simulate;
 pub mod slewing;
 pub mod structure;
@@ -27,7 +28,7 @@ pub mod structure;
 pub use fit::{ExperimentOutcome, FitOutcome, FitRequest, align, fit, fit_experiments};
 pub use model::{ModeRow, Model, ModelKind};
 pub use ode::{NonlinearError, NonlinearResponse};
-pub use simulate::{simulate, simulate_model, simulate_sensors};
+pub use simulate::{simulate, simulate_model};
 pub use slewing::SlewingFitModel;
 pub use structure::StructureFitModel;
 

@@ -4,6 +4,7 @@
 
 use crate::ModelError;
 use crate::ode::NonlinearResponse;
+use crate::sensors::{SensorEffect, SensorTerm, WithSensors};
 use crate::slewing::SlewingFitModel;
 use crate::structure::StructureFitModel;
 use mem::{Hold, Parameter, ResponseModel};
@@ -298,11 +299,68 @@ impl Model {
     /// # Errors
     /// Unknown parameter names.
     pub fn response(&self, free: &[&str]) -> Result<Box<dyn ResponseModel + Send + Sync>, ModelError> {
-        Ok(match self {
-            Model::Slewing(m) if m.is_linear() => Box::new(SlewingFitModel::new(m.clone(), free)?.response()),
-            Model::Slewing(m) => Box::new(NonlinearResponse::new(m.clone(), free)?),
-            Model::Structure(m) => Box::new(StructureFitModel::new(m.clone(), free)?.response()),
-        })
+        self.response_with(free, None)
+    }
+
+    /// As [`Model::response`], with the ODE solver's relative tolerance for a nonlinear model
+    /// (None: [`crate::ode::DEFAULT_RTOL`]; the exponential path is exact and ignores it).
+    ///
+    /// # Errors
+    /// Unknown parameter names.
+    pub fn response_with(
+        &self,
+        free: &[&str],
+        tolerance: Option<f64>,
+    ) -> Result<Box<dyn ResponseModel + Send + Sync>, ModelError> {
+        // The sensor effects' parameters are the adapter's; the rest are the dynamics'.
+        let sensor_effects = self.sensor_effects();
+        let is_sensor = |name: &str| sensor_effects.iter().any(|(n, _)| n == name);
+        let physics: Vec<&str> = free.iter().copied().filter(|n| !is_sensor(n)).collect();
+        let inner: Box<dyn ResponseModel + Send + Sync> = match self {
+            Model::Slewing(m) if m.is_linear() => {
+                Box::new(SlewingFitModel::new(m.clone(), &physics)?.response())
+            }
+            Model::Slewing(m) => {
+                let rtol = tolerance.unwrap_or(crate::ode::DEFAULT_RTOL);
+                Box::new(NonlinearResponse::new(m.clone(), &physics)?.with_tolerances(rtol, 1e-2 * rtol))
+            }
+            Model::Structure(m) => Box::new(StructureFitModel::new(m.clone(), &physics)?.response()),
+        };
+        if sensor_effects.is_empty() {
+            return Ok(inner);
+        }
+        // Positions in the caller's order: the sensor parameters may come anywhere in `free`.
+        let positions = free.iter().enumerate().filter(|(_, n)| !is_sensor(n)).map(|(i, _)| i).collect();
+        let effects = sensor_effects
+            .into_iter()
+            .map(|(name, mut e)| {
+                e.free = free.iter().position(|n| *n == name);
+                e
+            })
+            .collect();
+        Ok(Box::new(WithSensors::new(inner, effects, positions)))
+    }
+
+    /// The sensor effects (offset, scale, drift) with their parameter names.
+    fn sensor_effects(&self) -> Vec<(String, SensorEffect)> {
+        match self {
+            Model::Slewing(m) => m
+                .sensor_effects()
+                .into_iter()
+                .filter_map(|(output, e)| {
+                    let term = SensorTerm::of(e.kind())?;
+                    let name = plant::ParamId::of_effect(&e).first().map(|id| id.name())?;
+                    let value = match e {
+                        plant::Effect::OutputOffset { offset, .. } => offset,
+                        plant::Effect::SensorScale { scale, .. } => scale,
+                        plant::Effect::SensorDrift { rate, .. } => rate,
+                        _ => return None,
+                    };
+                    Some((name, SensorEffect { output, term, value, free: None }))
+                })
+                .collect(),
+            Model::Structure(_) => Vec::new(),
+        }
     }
 
     /// The model's response on `n_samples` samples of `grid` (driven by the grid's inputs), as the

@@ -9,8 +9,10 @@
 //! ṡ_i = (∂f/∂x) s_i + ∂f/∂P_i,   s_i(0) = ∂x(0)/∂P_i,
 //! ```
 //!
-//! integrated together with x by diffsol's explicit Tsitouras 5(4) method with error control on
-//! both. The Jacobian-vector products (∂f/∂x)v and (∂f/∂P)v are evaluated exactly in num-dual
+//! integrated together with x by diffsol's explicit Tsitouras 5(4) method, with error control
+//! on the states (the sensitivities ride along on the same steps: the exact derivatives of the
+//! discrete solution, and as accurate as the states; controlling them too only shortens the
+//! steps in proportion to the number of parameters). The Jacobian-vector products (∂f/∂x)v and (∂f/∂P)v are evaluated exactly in num-dual
 //! numbers on the plant's generic dynamics — nothing is hand-differentiated or finite-differenced.
 
 use diffsol::{NalgebraMat, OdeBuilder, OdeSolverMethod, Vector, VectorView};
@@ -43,6 +45,9 @@ pub enum NonlinearError {
         evaluations: usize,
     },
 }
+
+/// The solver's default relative tolerance (absolute: 1 % of it), for states and sensitivities.
+pub const DEFAULT_RTOL: f64 = 1e-9;
 
 /// Evaluations of the dynamics one simulation may take (a paper-size record with saturation,
 /// friction and drag takes about 10⁴).
@@ -80,7 +85,7 @@ impl NonlinearResponse {
     /// [`PlantError::UnknownParameter`] listing the valid names.
     pub fn new(model: SlewingModel, free: &[&str]) -> Result<Self, PlantError> {
         let free = free.iter().map(|n| model.parameter(n)).collect::<Result<Vec<_>, _>>()?;
-        Ok(Self { model, free, rtol: 1e-9, atol: 1e-11 })
+        Ok(Self { model, free, rtol: DEFAULT_RTOL, atol: 1e-2 * DEFAULT_RTOL })
     }
 
     /// Integration tolerances (relative, absolute) for states and sensitivities.
@@ -121,36 +126,91 @@ impl NonlinearResponse {
         // estimate would pass the acceptance test and stall the clock).
         let evaluations = std::sync::atomic::AtomicUsize::new(0);
         let exhausted = || evaluations.load(std::sync::atomic::Ordering::Relaxed) > RHS_BUDGET;
+        // f(x) = A x + b_s Δτ_s(x) + b_h τ_h(x): the linear part in plain numbers, the torques
+        // (scalar functions of a few states) in dual numbers where a derivative is needed —
+        // (∂f/∂x)v = A v + b_s (∇Δτ_s·v) + b_h (∇τ_h·v) and
+        // ∂f/∂P_i = (∂A/∂P_i) x + (∂b_s/∂P_i) Δτ_s + b_s ∂Δτ_s/∂P_i + (likewise for the hub).
+        let linear = Linear::of(&real);
+        let derivatives: Vec<Linear> = seeded.iter().map(Linear::of_eps).collect();
+        let nonlinear = !real.is_linear();
         let rhs = |x: &[f64], _p: &[f64], _t: f64, y: &mut [f64]| {
             if evaluations.fetch_add(1, std::sync::atomic::Ordering::Relaxed) > RHS_BUDGET {
                 y.iter_mut().for_each(|v| *v = REJECT);
             } else {
-                real.rhs(x, y);
+                linear.apply(x, y);
+                if nonlinear {
+                    let (servo, hub) = real.torques(x);
+                    linear.add_torques(servo, hub, y);
+                }
                 sanitize(y);
             }
         };
+        // The torques, their gradient in the few states they depend on, and their parameter
+        // derivatives, at the last state asked for: diffsol asks for (∂f/∂x)v and ∂f/∂P_i of
+        // every sensitivity at the same state, so each is computed once per state.
+        let torque_states = real.torque_states();
+        let acts: Vec<bool> =
+            seeded.iter().map(|d| d.torque_constants().iter().any(|c| c.eps != 0.0)).collect();
+        let cache = std::cell::RefCell::new(TorqueCache::new(n, j, torque_states.len()));
+        let update = |cache: &mut TorqueCache, x: &[f64]| {
+            if cache.valid && cache.x == x {
+                return;
+            }
+            cache.x.copy_from_slice(x);
+            cache.valid = true;
+            cache.value = real.torques(x);
+            let mut xd: Vec<Dual64> = x.iter().map(|a| Dual64::from(*a)).collect();
+            for (g, &k) in cache.gradient.iter_mut().zip(&torque_states) {
+                xd[k].eps = 1.0;
+                let (servo, hub) = lifted.torques(&xd);
+                xd[k].eps = 0.0;
+                *g = (k, servo.eps, hub.eps);
+            }
+            for (i, dynamics) in seeded.iter().enumerate() {
+                cache.by_parameter[i] = if acts[i] {
+                    let (servo, hub) = dynamics.torques(&xd);
+                    (servo.eps, hub.eps)
+                } else {
+                    (0.0, 0.0)
+                };
+            }
+        };
         let jac = |x: &[f64], _p: &[f64], _t: f64, v: &[f64], y: &mut [f64]| {
-            let xd: Vec<Dual64> = x.iter().zip(v).map(|(a, b)| Dual64::new(*a, *b)).collect();
-            let mut f = vec![Dual64::from(0.0); n];
-            lifted.rhs(&xd, &mut f);
-            for (yi, fi) in y.iter_mut().zip(&f) {
-                *yi = fi.eps;
+            linear.apply(v, y);
+            if nonlinear {
+                let mut cache = cache.borrow_mut();
+                update(&mut cache, x);
+                let (servo, hub) = cache
+                    .gradient
+                    .iter()
+                    .fold((0.0, 0.0), |(s, h), (k, gs, gh)| (s + gs * v[*k], h + gh * v[*k]));
+                linear.add_torques(servo, hub, y);
             }
             sanitize(y);
         };
         let sens = |x: &[f64], _p: &[f64], _t: f64, v: &[f64], y: &mut [f64]| {
-            let xd: Vec<Dual64> = x.iter().map(|a| Dual64::from(*a)).collect();
             y.iter_mut().for_each(|yi| *yi = 0.0);
-            let mut f = vec![Dual64::from(0.0); n];
-            for (i, dynamics) in seeded.iter().enumerate() {
+            let mut cache = cache.borrow_mut();
+            if nonlinear {
+                update(&mut cache, x);
+            }
+            let torques = cache.value;
+            let mut term = std::mem::take(&mut cache.term);
+            for (i, d) in derivatives.iter().enumerate() {
                 if v[i] == 0.0 {
                     continue;
                 }
-                dynamics.rhs(&xd, &mut f);
-                for (yi, fi) in y.iter_mut().zip(&f) {
-                    *yi += v[i] * fi.eps;
+                d.apply(x, &mut term);
+                if nonlinear {
+                    d.add_torques(torques.0, torques.1, &mut term);
+                    let (servo, hub) = cache.by_parameter[i];
+                    linear.add_torques(servo, hub, &mut term);
+                }
+                for (yi, ti) in y.iter_mut().zip(&term) {
+                    *yi += v[i] * ti;
                 }
             }
+            cache.term = term;
             sanitize(y);
         };
         let init = |_p: &[f64], _t: f64, y: &mut [f64]| y.copy_from_slice(&x0);
@@ -205,8 +265,6 @@ impl NonlinearResponse {
                 .p(p.to_vec())
                 .rtol(self.rtol)
                 .atol(vec![self.atol; n])
-                .sens_rtol(self.rtol)
-                .sens_atol(vec![self.atol; n])
                 .rhs_sens_implicit(rhs, jac, sens)
                 .init_sens(init, init_sens, n)
                 .build()
@@ -241,6 +299,12 @@ impl NonlinearResponse {
                 }
             });
         }
+        if std::env::var("MEMID_DEBUG2").is_ok() {
+            eprintln!(
+                "simulate j={j} evals={} p={p:?}",
+                evaluations.load(std::sync::atomic::Ordering::Relaxed)
+            );
+        }
         let c = &real.c;
         let p_out = c.nrows();
         for step in 0..k {
@@ -255,6 +319,72 @@ impl NonlinearResponse {
             }
         }
         Ok(())
+    }
+}
+
+/// The torques at one state, their state gradient and parameter derivatives.
+struct TorqueCache {
+    x: Vec<f64>,
+    valid: bool,
+    value: (f64, f64),
+    gradient: Vec<(usize, f64, f64)>,
+    by_parameter: Vec<(f64, f64)>,
+    term: Vec<f64>,
+}
+
+impl TorqueCache {
+    fn new(n: usize, j: usize, states: usize) -> Self {
+        Self {
+            x: vec![0.0; n],
+            valid: false,
+            value: (0.0, 0.0),
+            gradient: vec![(0, 0.0, 0.0); states],
+            by_parameter: vec![(0.0, 0.0); j],
+            term: vec![0.0; n],
+        }
+    }
+}
+
+/// The linear part of the dynamics in plain numbers: A and the torque directions b_s, b_h
+/// (or their derivatives, the ε parts of seeded dual dynamics).
+struct Linear {
+    a: Vec<f64>,
+    servo: Vec<f64>,
+    hub: Vec<f64>,
+    n: usize,
+}
+
+impl Linear {
+    fn of(d: &Dynamics<f64>) -> Self {
+        let n = d.layout.n_states;
+        Self {
+            a: (0..n * n).map(|k| d.a[(k / n, k % n)]).collect(),
+            servo: d.servo_input.iter().copied().collect(),
+            hub: d.hub_input.iter().copied().collect(),
+            n,
+        }
+    }
+    fn of_eps(d: &Dynamics<Dual64>) -> Self {
+        let n = d.layout.n_states;
+        Self {
+            a: (0..n * n).map(|k| d.a[(k / n, k % n)].eps).collect(),
+            servo: d.servo_input.iter().map(|v| v.eps).collect(),
+            hub: d.hub_input.iter().map(|v| v.eps).collect(),
+            n,
+        }
+    }
+    /// y = A x.
+    fn apply(&self, x: &[f64], y: &mut [f64]) {
+        for (i, yi) in y.iter_mut().enumerate().take(self.n) {
+            let row = &self.a[i * self.n..(i + 1) * self.n];
+            *yi = row.iter().zip(x).map(|(a, b)| a * b).sum();
+        }
+    }
+    /// y += b_s servo + b_h hub.
+    fn add_torques(&self, servo: f64, hub: f64, y: &mut [f64]) {
+        for ((yi, s), h) in y.iter_mut().zip(&self.servo).zip(&self.hub) {
+            *yi += s * servo + h * hub;
+        }
     }
 }
 

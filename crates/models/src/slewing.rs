@@ -41,15 +41,15 @@ impl SlewingFitModel {
         self.free.iter().map(|id| self.model.get(*id)).collect()
     }
 
-    /// Bounds from the model file, or (0, ∞) / (−∞, ∞) according to the parameter's sign rule.
+    /// Bounds from the model file, or (0⁺, ∞), [0, ∞) or (−∞, ∞) by the parameter's sign rule.
     pub fn bounds(&self) -> Vec<(f64, f64)> {
         self.free
             .iter()
             .map(|id| {
-                self.model.bounds(*id).unwrap_or(if id.must_be_positive() {
-                    (f64::MIN_POSITIVE, f64::INFINITY)
-                } else {
-                    (0.0, f64::INFINITY)
+                self.model.bounds(*id).unwrap_or(match id.sign_rule() {
+                    plant::SignRule::Positive => (f64::MIN_POSITIVE, f64::INFINITY),
+                    plant::SignRule::NonNegative => (0.0, f64::INFINITY),
+                    plant::SignRule::Any => (f64::NEG_INFINITY, f64::INFINITY),
                 })
             })
             .collect()

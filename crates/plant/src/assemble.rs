@@ -1,6 +1,6 @@
 //! The closed-loop equations of motion (paper Eqs. 17–21) and their first-order form.
 
-use crate::{Constants, Effect, PlantError};
+use crate::{Constants, Effect, EffectKind, PlantError};
 use beam_modes::{Beam, Mode};
 use nalgebra::{DMatrix, DVector, RealField};
 use num_dual::DualNum;
@@ -39,8 +39,6 @@ pub struct Layout {
     pub extra_mode: Option<usize>,
     /// State index of the Padé delay state w.
     pub delay: Option<usize>,
-    /// State index of the constant state that carries output offsets.
-    pub offset: Option<usize>,
     /// Total number of states.
     pub n_states: usize,
 }
@@ -49,19 +47,15 @@ impl Layout {
     /// The layout that a set of constants (with its effects) needs.
     pub fn of<D>(c: &Constants<D>) -> Self {
         let n_modes = c.modal_damping.len();
-        let has = |kind: &str| c.effects.iter().any(|e| e.kind() == kind);
-        let extra_mode = has("unmodeled_mode").then_some(n_modes + 1);
+        let has = |kind: EffectKind| c.effects.iter().any(|e| e.kind() == kind);
+        let extra_mode = has(EffectKind::UnmodeledMode).then_some(n_modes + 1);
         let n_dof = n_modes + 1 + usize::from(extra_mode.is_some());
         let mut n_states = 2 * n_dof;
-        let delay = has("time_delay").then(|| {
+        let delay = has(EffectKind::TimeDelay).then(|| {
             n_states += 1;
             n_states - 1
         });
-        let offset = has("output_offset").then(|| {
-            n_states += 1;
-            n_states - 1
-        });
-        Self { n_modes, n_dof, extra_mode, delay, offset, n_states }
+        Self { n_modes, n_dof, extra_mode, delay, n_states }
     }
 }
 
@@ -121,13 +115,17 @@ pub fn second_order<D: Scalar>(c: &Constants<D>) -> Result<SecondOrder<D>, Plant
     }
     if let Some(r) = layout.extra_mode {
         for e in &c.effects {
-            if let Effect::UnmodeledMode { frequency_hz, damping_ratio, coupling } = e {
+            if let Effect::UnmodeledMode { frequency_hz, damping_ratio, coupling, stiffness_coupling } = e {
                 let omega = *frequency_hz * D::from(2.0 * std::f64::consts::PI);
                 m[(0, r)] = *coupling;
                 m[(r, 0)] = *coupling;
                 m[(r, r)] = D::from(1.0);
                 d[(r, r)] = D::from(2.0) * *damping_ratio * omega;
                 k[(r, r)] = omega * omega;
+                if let Some(kc) = stiffness_coupling {
+                    k[(0, r)] = *kc;
+                    k[(r, 0)] = *kc;
+                }
             }
         }
     }
@@ -137,7 +135,7 @@ pub fn second_order<D: Scalar>(c: &Constants<D>) -> Result<SecondOrder<D>, Plant
 /// The first-order form and the input directions of the servo and hub torques.
 #[derive(Clone, Debug)]
 pub struct FirstOrder<D: Scalar> {
-    /// A (n_states square): [[0, I], [−M⁻¹K, −M⁻¹D]] plus the delay and offset states.
+    /// A (n_states square): [[0, I], [−M⁻¹K, −M⁻¹D]] plus the delay state.
     pub a: DMatrix<D>,
     /// [0; M⁻¹·servo_vector; 0…]: how a change of servo torque enters ẋ.
     pub servo_input: DVector<D>,
@@ -149,8 +147,7 @@ pub struct FirstOrder<D: Scalar> {
 
 /// A = [[0, I], [−M⁻¹K, −M⁻¹D]] by one LU factorisation of M and solves (no inverse), augmented
 /// with the effects' states:
-/// * time delay τ (Padé(1,1)): the servo acts on θ_d = −θ + w instead of θ, ẇ = (2/τ)(2θ − w);
-/// * output offset: a constant state (ẋ = 0, x(0) = 1) that C maps to the biases.
+/// * time delay τ (Padé(1,1)): the servo acts on θ_d = −θ + w instead of θ, ẇ = (2/τ)(2θ − w).
 ///
 /// # Errors
 /// [`PlantError::SingularMass`] if M cannot be factorised.

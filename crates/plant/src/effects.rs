@@ -1,20 +1,114 @@
 //! The catalog of physical effects a model file may add to the paper's linear model.
 //!
 //! Linear effects are exact augmentations of the state space (they keep the
-//! matrix-exponential path); nonlinear ones add generalised forces (see [`crate::nonlinear`]).
+//! matrix-exponential path); nonlinear ones add generalised forces (see [`crate::nonlinear`]);
+//! sensor effects act on the readings only and are applied by the adapter layer (`models`),
+//! which applies them to any model kind.
 //!
 //! | effect | parameters (names) | form |
 //! | --- | --- | --- |
 //! | `AmplifierSaturation` | `current_limit` \[A\] | armature current i = sat((e_a − K_bθ̇)/R_a) |
+//! | `VoltageSaturation` | `voltage_limit` \[V\] | amplifier output e_a = sat(G K_p(θ_ref − θ)); the back-EMF still acts |
 //! | `CoulombFriction` | `coulomb_torque` \[N·m\] | τ = −F_c tanh(θ̇/v_s), v_s fixed smoothing velocity |
-//! | `QuadraticDrag` | `drag_hub` \[N·m·s²/rad²\] | τ = −c_d \|θ̇\| θ̇ (air drag, the paper's ref. 10) |
-//! | `SensorQuantization` | — (measurement only) | y ← Δ·round(y/Δ) on one sensor |
-//! | `OutputOffset` | `offset_<output>` | y ← y + b (a constant state) |
+//! | `QuadraticDrag` | `drag_hub` \[N·m·(s/rad)ᵖ\], optional `drag_exponent` p | τ = −c_d \|θ̇\|ᵖ sign θ̇ (p = 2 unless given: air drag, the paper's ref. 10) |
+//! | `CubicStiffness` | `cubic_stiffness` \[N·m/rad³\] | τ = −k₃θ³ on the hub (hardening for k₃ > 0, softening for k₃ < 0) |
 //! | `TimeDelay` | `delay` \[s\] | feedback sees θ(t − τ), Padé(1,1): θ_d = −θ + w, ẇ = (2/τ)(2θ − w) |
-//! | `UnmodeledMode` | `extra_mode_frequency` \[Hz\], `extra_mode_damping`, `extra_mode_coupling` \[√kg·m\] | a mass-normalised mode η: η̈ + 2ζωη̇ + ω²η coupled to the hub through M |
+//! | `UnmodeledMode` | `extra_mode_frequency` \[Hz\], `extra_mode_damping`, `extra_mode_coupling` \[√kg·m\], optional `extra_mode_stiffness_coupling` \[N·m/√kg\] | a mass-normalised mode η: η̈ + 2ζωη̇ + ω²η coupled to the hub through M (and K) |
+//! | `SensorQuantization` | — (measurement only) | y ← Δ·round(y/Δ) on one sensor |
+//! | `OutputOffset` | `offset_<output>` | y ← y + b on one sensor |
+//! | `SensorScale` | `scale_<output>` | y ← (1 + s)·y on one sensor (a calibration error) |
+//! | `SensorDrift` | `drift_<output>` \[unit/s\] | y ← y + d·t on one sensor (a slow drift) |
 
 use crate::sensors::Sensor;
 use serde::{Deserialize, Serialize};
+
+/// The kinds of effect in the catalog (the JSON `effect` names of `memid diagnose`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EffectKind {
+    /// A limit on the armature current.
+    AmplifierSaturation,
+    /// A limit on the amplifier's output voltage.
+    VoltageSaturation,
+    /// Dry friction at the hub.
+    CoulombFriction,
+    /// Drag at the hub (exponent 2 unless given).
+    QuadraticDrag,
+    /// Hardening or softening stiffness at the hub.
+    CubicStiffness,
+    /// A dead band between motor and hub (found by its signature; not a model effect).
+    Backlash,
+    /// A quantized sensor.
+    SensorQuantization,
+    /// A constant bias on a sensor.
+    OutputOffset,
+    /// A scale-factor error of a sensor.
+    SensorScale,
+    /// A slow drift of a sensor.
+    SensorDrift,
+    /// A transport delay in the feedback loop.
+    TimeDelay,
+    /// A structural mode the model lacks.
+    UnmodeledMode,
+}
+
+impl EffectKind {
+    /// Every kind, in catalog order.
+    pub const ALL: [EffectKind; 12] = [
+        EffectKind::AmplifierSaturation,
+        EffectKind::VoltageSaturation,
+        EffectKind::CoulombFriction,
+        EffectKind::QuadraticDrag,
+        EffectKind::CubicStiffness,
+        EffectKind::Backlash,
+        EffectKind::SensorQuantization,
+        EffectKind::OutputOffset,
+        EffectKind::SensorScale,
+        EffectKind::SensorDrift,
+        EffectKind::TimeDelay,
+        EffectKind::UnmodeledMode,
+    ];
+
+    /// The catalog name (snake case), as `memid diagnose` reports it.
+    pub fn name(self) -> &'static str {
+        match self {
+            EffectKind::AmplifierSaturation => "amplifier_saturation",
+            EffectKind::VoltageSaturation => "voltage_saturation",
+            EffectKind::CoulombFriction => "coulomb_friction",
+            EffectKind::QuadraticDrag => "quadratic_drag",
+            EffectKind::CubicStiffness => "cubic_stiffness",
+            EffectKind::Backlash => "backlash",
+            EffectKind::SensorQuantization => "sensor_quantization",
+            EffectKind::OutputOffset => "output_offset",
+            EffectKind::SensorScale => "sensor_scale",
+            EffectKind::SensorDrift => "sensor_drift",
+            EffectKind::TimeDelay => "time_delay",
+            EffectKind::UnmodeledMode => "unmodeled_mode",
+        }
+    }
+
+    /// The kind of a catalog name.
+    pub fn parse(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| k.name() == name)
+    }
+
+    /// Whether the effect acts on one sensor's readings only.
+    pub fn is_sensor_effect(self) -> bool {
+        matches!(
+            self,
+            EffectKind::SensorQuantization
+                | EffectKind::OutputOffset
+                | EffectKind::SensorScale
+                | EffectKind::SensorDrift
+        )
+    }
+}
+
+impl std::fmt::Display for EffectKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
 
 /// One effect and its parameter values.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -30,6 +124,14 @@ pub enum Effect<D = f64> {
         #[serde(default)]
         sharp: bool,
     },
+    /// Output voltage limit of the power amplifier.
+    VoltageSaturation {
+        /// Voltage limit \[V\].
+        voltage_limit: D,
+        /// An ideal clamp (`true`) or the smooth limiter of [`Effect::AmplifierSaturation`].
+        #[serde(default)]
+        sharp: bool,
+    },
     /// Dry friction at the hub, smoothed by tanh so that sensitivities exist.
     CoulombFriction {
         /// Friction torque \[N·m\].
@@ -38,10 +140,18 @@ pub enum Effect<D = f64> {
         /// its full value above 3·v_s).
         smoothing_velocity: f64,
     },
-    /// Air drag on the hub and beam, lumped as a torque ∝ |θ̇|θ̇.
+    /// Air drag on the hub and beam, lumped as a torque ∝ |θ̇|ᵖ sign θ̇.
     QuadraticDrag {
-        /// Coefficient c_d \[N·m·s²/rad²\].
+        /// Coefficient c_d \[N·m·(s/rad)ᵖ\].
         hub: D,
+        /// The exponent p (2 when absent); a parameter (`drag_exponent`) when given.
+        #[serde(default)]
+        exponent: Option<D>,
+    },
+    /// A cubic restoring torque at the hub.
+    CubicStiffness {
+        /// k₃ \[N·m/rad³\]: τ = −k₃θ³.
+        coefficient: D,
     },
     /// Quantization of one sensor (the potentiometer's windings); measurement-only.
     SensorQuantization {
@@ -57,6 +167,20 @@ pub enum Effect<D = f64> {
         /// Bias, in the output's unit.
         offset: D,
     },
+    /// A scale-factor error of one sensor.
+    SensorScale {
+        /// Which sensor.
+        sensor: Sensor,
+        /// s: the reading is (1 + s)·y.
+        scale: D,
+    },
+    /// A slow drift of one sensor.
+    SensorDrift {
+        /// Which sensor.
+        sensor: Sensor,
+        /// d: the reading is y + d·t, in the output's unit per second.
+        rate: D,
+    },
     /// A delay in the position feedback.
     TimeDelay {
         /// Delay τ \[s\].
@@ -68,22 +192,40 @@ pub enum Effect<D = f64> {
         frequency_hz: D,
         /// Damping ratio.
         damping_ratio: D,
-        /// Coupling to the hub (a participation integral) \[√kg·m\].
+        /// Coupling to the hub through the mass matrix (a participation integral) \[√kg·m\].
         coupling: D,
+        /// Coupling to the hub through the stiffness matrix \[N·m/√kg\] (absent: none).
+        #[serde(default)]
+        stiffness_coupling: Option<D>,
     },
 }
 
 impl<D> Effect<D> {
-    /// The catalog name (snake case), as used by `memid diagnose`.
-    pub fn kind(&self) -> &'static str {
+    /// The effect's kind.
+    pub fn kind(&self) -> EffectKind {
         match self {
-            Effect::AmplifierSaturation { .. } => "amplifier_saturation",
-            Effect::CoulombFriction { .. } => "coulomb_friction",
-            Effect::QuadraticDrag { .. } => "quadratic_drag",
-            Effect::SensorQuantization { .. } => "sensor_quantization",
-            Effect::OutputOffset { .. } => "output_offset",
-            Effect::TimeDelay { .. } => "time_delay",
-            Effect::UnmodeledMode { .. } => "unmodeled_mode",
+            Effect::AmplifierSaturation { .. } => EffectKind::AmplifierSaturation,
+            Effect::VoltageSaturation { .. } => EffectKind::VoltageSaturation,
+            Effect::CoulombFriction { .. } => EffectKind::CoulombFriction,
+            Effect::QuadraticDrag { .. } => EffectKind::QuadraticDrag,
+            Effect::CubicStiffness { .. } => EffectKind::CubicStiffness,
+            Effect::SensorQuantization { .. } => EffectKind::SensorQuantization,
+            Effect::OutputOffset { .. } => EffectKind::OutputOffset,
+            Effect::SensorScale { .. } => EffectKind::SensorScale,
+            Effect::SensorDrift { .. } => EffectKind::SensorDrift,
+            Effect::TimeDelay { .. } => EffectKind::TimeDelay,
+            Effect::UnmodeledMode { .. } => EffectKind::UnmodeledMode,
+        }
+    }
+
+    /// The sensor a measurement-side effect acts on.
+    pub fn sensor(&self) -> Option<Sensor> {
+        match self {
+            Effect::SensorQuantization { sensor, .. }
+            | Effect::OutputOffset { sensor, .. }
+            | Effect::SensorScale { sensor, .. }
+            | Effect::SensorDrift { sensor, .. } => Some(*sensor),
+            _ => None,
         }
     }
 
@@ -92,8 +234,10 @@ impl<D> Effect<D> {
         matches!(
             self,
             Effect::AmplifierSaturation { .. }
+                | Effect::VoltageSaturation { .. }
                 | Effect::CoulombFriction { .. }
                 | Effect::QuadraticDrag { .. }
+                | Effect::CubicStiffness { .. }
         )
     }
 
@@ -103,22 +247,33 @@ impl<D> Effect<D> {
             Effect::AmplifierSaturation { current_limit, sharp } => {
                 Effect::AmplifierSaturation { current_limit: f(current_limit), sharp: *sharp }
             }
+            Effect::VoltageSaturation { voltage_limit, sharp } => {
+                Effect::VoltageSaturation { voltage_limit: f(voltage_limit), sharp: *sharp }
+            }
             Effect::CoulombFriction { torque, smoothing_velocity } => {
                 Effect::CoulombFriction { torque: f(torque), smoothing_velocity: *smoothing_velocity }
             }
-            Effect::QuadraticDrag { hub } => Effect::QuadraticDrag { hub: f(hub) },
+            Effect::QuadraticDrag { hub, exponent } => {
+                Effect::QuadraticDrag { hub: f(hub), exponent: exponent.as_ref().map(&f) }
+            }
+            Effect::CubicStiffness { coefficient } => Effect::CubicStiffness { coefficient: f(coefficient) },
             Effect::SensorQuantization { sensor, step } => {
                 Effect::SensorQuantization { sensor: *sensor, step: *step }
             }
             Effect::OutputOffset { sensor, offset } => {
                 Effect::OutputOffset { sensor: *sensor, offset: f(offset) }
             }
+            Effect::SensorScale { sensor, scale } => Effect::SensorScale { sensor: *sensor, scale: f(scale) },
+            Effect::SensorDrift { sensor, rate } => Effect::SensorDrift { sensor: *sensor, rate: f(rate) },
             Effect::TimeDelay { delay } => Effect::TimeDelay { delay: f(delay) },
-            Effect::UnmodeledMode { frequency_hz, damping_ratio, coupling } => Effect::UnmodeledMode {
-                frequency_hz: f(frequency_hz),
-                damping_ratio: f(damping_ratio),
-                coupling: f(coupling),
-            },
+            Effect::UnmodeledMode { frequency_hz, damping_ratio, coupling, stiffness_coupling } => {
+                Effect::UnmodeledMode {
+                    frequency_hz: f(frequency_hz),
+                    damping_ratio: f(damping_ratio),
+                    coupling: f(coupling),
+                    stiffness_coupling: stiffness_coupling.as_ref().map(&f),
+                }
+            }
         }
     }
 }

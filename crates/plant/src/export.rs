@@ -30,9 +30,6 @@ impl SlewingModel {
         if layout.delay.is_some() {
             states.push("delay_w".into());
         }
-        if layout.offset.is_some() {
-            states.push("offset_one".into());
-        }
         Ok(json!({
             "name": self.file().name,
             "states": states,

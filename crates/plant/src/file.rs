@@ -150,24 +150,23 @@ impl ModelFile {
             id.check(value).map_err(|req| invalid(&id.field_path(), value, req))?;
         }
         for (i, e) in self.effects.iter().enumerate() {
-            let duplicate = self.effects[..i].iter().any(|f| match (f, e) {
-                (Effect::OutputOffset { sensor: a, .. }, Effect::OutputOffset { sensor: b, .. })
-                | (
-                    Effect::SensorQuantization { sensor: a, .. },
-                    Effect::SensorQuantization { sensor: b, .. },
-                ) => a == b,
-                _ => f.kind() == e.kind(),
-            });
+            // One of each kind; sensor effects once per sensor.
+            let duplicate =
+                self.effects[..i].iter().any(|f| f.kind() == e.kind() && f.sensor() == e.sensor());
             if duplicate {
-                return Err(invalid("effects", i as f64, format!("effect {} is listed twice", e.kind())));
+                return Err(invalid(
+                    "effects",
+                    i as f64,
+                    format!("effect {} is listed twice", e.kind().name()),
+                ));
             }
-            if let Effect::OutputOffset { sensor, .. } | Effect::SensorQuantization { sensor, .. } = e
-                && !self.outputs.contains(sensor)
+            if let Some(sensor) = e.sensor()
+                && !self.outputs.contains(&sensor)
             {
                 return Err(invalid(
                     "effects",
                     i as f64,
-                    format!("{} refers to {sensor:?}, which is not in `outputs`", e.kind()),
+                    format!("{} refers to {sensor:?}, which is not in `outputs`", e.kind().name()),
                 ));
             }
             if let Effect::SensorQuantization { step, .. } = e

@@ -43,7 +43,7 @@ pub mod nonlinear;
 mod params;
 mod sensors;
 
-pub use effects::Effect;
+pub use effects::{Effect, EffectKind};
 pub use error::PlantError;
 pub use file::{BeamSection, ControlSection, HubSection, InitialCondition, ModelFile, MotorSection, locate};
 pub use modal::{ModalRow, ModeKind, RawMode, modes_of};

@@ -102,7 +102,7 @@ impl SlewingModel {
         Layout::of(&self.constants)
     }
 
-    /// Number of states N: 2(n+1), plus 2 for an unmodeled mode, 1 for a delay, 1 for offsets.
+    /// Number of states N: 2(n+1), plus 2 for an unmodeled mode, 1 for a delay.
     pub fn n_states(&self) -> usize {
         self.layout().n_states
     }
@@ -149,6 +149,20 @@ impl SlewingModel {
         lift: impl Fn(&f64) -> D,
     ) -> Result<crate::nonlinear::Dynamics<D>, PlantError> {
         crate::nonlinear::dynamics(&self.constants.map(lift), &self.file.outputs)
+    }
+
+    /// The measurement-side effects (offsets, scales, drifts, quantization) with the index of the
+    /// output they act on; the adapter layer applies them.
+    pub fn sensor_effects(&self) -> Vec<(usize, crate::Effect)> {
+        self.constants
+            .effects
+            .iter()
+            .filter_map(|e| {
+                let sensor = e.sensor()?;
+                let o = self.file.outputs.iter().position(|s| *s == sensor)?;
+                Some((o, e.clone()))
+            })
+            .collect()
     }
 
     /// The sensors' quantization steps (measurement-only effects), per output.
@@ -251,12 +265,7 @@ impl SlewingModel {
                 })?;
             chosen.push(sensor);
         }
-        file.effects.retain(|e| match e {
-            crate::Effect::OutputOffset { sensor, .. } | crate::Effect::SensorQuantization { sensor, .. } => {
-                chosen.contains(sensor)
-            }
-            _ => true,
-        });
+        file.effects.retain(|e| e.sensor().is_none_or(|sensor| chosen.contains(&sensor)));
         file.outputs = chosen;
         Self::from_ron(&file.to_ron(), &self.origin)
     }
@@ -267,7 +276,7 @@ impl SlewingModel {
     }
 
     /// x(0) = [θ(0), 0, …, 0, θ̇(0), 0, …, 0]: the beam undeformed and at rest; the delay state
-    /// in steady state for a held angle (w = 2θ(0), so θ_d = θ(0)); the offset state 1.
+    /// in steady state for a held angle (w = 2θ(0), so θ_d = θ(0)).
     pub fn initial_state(&self) -> Vec<f64> {
         let layout = self.layout();
         let mut x = vec![0.0; layout.n_states];
@@ -276,9 +285,6 @@ impl SlewingModel {
         x[layout.n_dof] = self.file.initial_condition.hub_rate;
         if let Some(w) = layout.delay {
             x[w] = 2.0 * theta;
-        }
-        if let Some(o) = layout.offset {
-            x[o] = 1.0;
         }
         x
     }

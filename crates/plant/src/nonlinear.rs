@@ -1,10 +1,12 @@
 //! The nonlinear effects as generalised forces: ẋ = A x + b_s Δτ_s(x) + b_h τ_h(x).
 //!
-//! * Amplifier current limit: the armature current is i = (G K_p(θ_ref − θ_c) − K_b θ̇)/R_a and
-//!   the motor torque K_t·sat(i); the linear model's servo torque is −k_s θ_c − (K_bK_t/R_a) θ̇,
-//!   so Δτ_s = K_t sat(i) − (−k_s θ_c − K_bK_t/R_a θ̇) enters through the servo direction
-//!   [1, Γ_1, …] (θ_c is θ, or the delayed θ_d with a time delay).
-//! * Coulomb friction and quadratic drag are hub torques τ_h = −F_c tanh(θ̇/v_s) − c_d|θ̇|θ̇.
+//! * Amplifier limits: the amplifier's output voltage is e_a = G K_p(θ_ref − θ_c), limited to
+//!   ±V with a voltage limit; the armature current i = (e_a − K_b θ̇)/R_a, limited to ±I with a
+//!   current limit; the motor torque is K_t·i. The linear model's servo torque is
+//!   −k_s θ_c − (K_bK_t/R_a) θ̇, so Δτ_s = K_t i − (−k_s θ_c − K_bK_t/R_a θ̇) enters through the
+//!   servo direction [1, Γ_1, …] (θ_c is θ, or the delayed θ_d with a time delay).
+//! * Dry friction, drag and a cubic stiffness are hub torques
+//!   τ_h = −F_c tanh(θ̇/v_s) − c_d|θ̇|ᵖ sign θ̇ − k₃θ³.
 
 use crate::assemble::{FirstOrder, Layout, Scalar, first_order, second_order};
 use crate::sensors::{Sensor, output_matrix};
@@ -26,10 +28,13 @@ pub struct Dynamics<D: Scalar> {
     /// State layout.
     pub layout: Layout,
     saturation: Option<(D, bool)>,
+    voltage: Option<(D, bool)>,
     coulomb: Option<(D, f64)>,
-    drag: Option<D>,
-    position_current_gain: D,
-    emf_current_gain: D,
+    drag: Option<(D, Option<D>)>,
+    cubic: Option<D>,
+    amplifier_voltage_gain: D,
+    armature_resistance: D,
+    back_emf_constant: D,
     torque_constant: D,
     servo_stiffness: D,
     emf_damping: D,
@@ -43,17 +48,21 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
     let so = second_order(c)?;
     let FirstOrder { a, servo_input, hub_input, layout } = first_order(c, &so)?;
     let mut saturation = None;
+    let mut voltage = None;
     let mut coulomb = None;
     let mut drag = None;
+    let mut cubic = None;
     for e in &c.effects {
         match e {
             Effect::AmplifierSaturation { current_limit, sharp } => {
                 saturation = Some((*current_limit, *sharp))
             }
+            Effect::VoltageSaturation { voltage_limit, sharp } => voltage = Some((*voltage_limit, *sharp)),
             Effect::CoulombFriction { torque, smoothing_velocity } => {
                 coulomb = Some((*torque, *smoothing_velocity))
             }
-            Effect::QuadraticDrag { hub } => drag = Some(*hub),
+            Effect::QuadraticDrag { hub, exponent } => drag = Some((*hub, *exponent)),
+            Effect::CubicStiffness { coefficient } => cubic = Some(*coefficient),
             _ => {}
         }
     }
@@ -64,10 +73,13 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
         hub_input,
         layout,
         saturation,
+        voltage,
         coulomb,
         drag,
-        position_current_gain: c.amplifier_gain * c.position_gain / c.armature_resistance,
-        emf_current_gain: c.back_emf_constant / c.armature_resistance,
+        cubic,
+        amplifier_voltage_gain: c.amplifier_gain * c.position_gain,
+        armature_resistance: c.armature_resistance,
+        back_emf_constant: c.back_emf_constant,
         torque_constant: c.torque_constant,
         servo_stiffness: so.servo_stiffness,
         emf_damping: c.back_emf_constant * c.torque_constant / c.armature_resistance,
@@ -77,13 +89,46 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
 /// The smooth current limiter i / (1 + (i/I)⁸)^{1/8}.
 pub fn smooth_limit<D: Scalar>(current: D, limit: D) -> D {
     let r = current / limit;
-    current * DualNum::powf(&(D::from(1.0) + DualNum::powi(&r, 8)), -0.125)
+    // (1 + r⁸)^{−1/8} by three square roots: the same value, far cheaper than a power.
+    let root = DualNum::sqrt(&DualNum::sqrt(&DualNum::sqrt(&(D::from(1.0) + DualNum::powi(&r, 8)))));
+    current / root
 }
 
 impl<D: Scalar> Dynamics<D> {
     /// Whether f is linear (no nonlinear effect).
     pub fn is_linear(&self) -> bool {
-        self.saturation.is_none() && self.coulomb.is_none() && self.drag.is_none()
+        self.saturation.is_none()
+            && self.voltage.is_none()
+            && self.coulomb.is_none()
+            && self.drag.is_none()
+            && self.cubic.is_none()
+    }
+
+    /// The states the torques depend on: θ, θ̇ and the delay state if there is one.
+    pub fn torque_states(&self) -> Vec<usize> {
+        std::iter::once(0).chain(std::iter::once(self.layout.n_dof)).chain(self.layout.delay).collect()
+    }
+
+    /// The constants the torques depend on (limits, coefficients, gains): a parameter whose
+    /// dual seed leaves all of them real does not change the torques.
+    pub fn torque_constants(&self) -> Vec<D> {
+        let mut out = vec![
+            self.amplifier_voltage_gain,
+            self.armature_resistance,
+            self.back_emf_constant,
+            self.torque_constant,
+            self.servo_stiffness,
+            self.emf_damping,
+        ];
+        out.extend(self.saturation.map(|s| s.0));
+        out.extend(self.voltage.map(|s| s.0));
+        out.extend(self.coulomb.map(|s| s.0));
+        if let Some((c, p)) = self.drag {
+            out.push(c);
+            out.extend(p);
+        }
+        out.extend(self.cubic);
+        out
     }
 
     /// The nonlinear torques (Δτ_s, τ_h) at state x.
@@ -95,30 +140,36 @@ impl<D: Scalar> Dynamics<D> {
             Some(w) => -theta + x[w],
             None => theta,
         };
-        let servo = match self.saturation {
-            Some((limit, sharp)) => {
-                let current = -self.position_current_gain * controlled - self.emf_current_gain * rate;
-                let limited = if sharp {
-                    if current.re() > limit.re() {
-                        limit
-                    } else if current.re() < -limit.re() {
-                        -limit
-                    } else {
-                        current
-                    }
-                } else {
-                    smooth_limit(current, limit)
-                };
-                self.torque_constant * limited + self.servo_stiffness * controlled + self.emf_damping * rate
+        let servo = if self.saturation.is_some() || self.voltage.is_some() {
+            // e_a = G K_p (θ_ref − θ_c) with θ_ref = 0, limited; i = (e_a − K_b θ̇)/R_a, limited.
+            let mut volts = -self.amplifier_voltage_gain * controlled;
+            if let Some((limit, sharp)) = self.voltage {
+                volts = limit_with(volts, limit, sharp);
             }
-            None => zero,
+            let mut current = (volts - self.back_emf_constant * rate) / self.armature_resistance;
+            if let Some((limit, sharp)) = self.saturation {
+                current = limit_with(current, limit, sharp);
+            }
+            self.torque_constant * current + self.servo_stiffness * controlled + self.emf_damping * rate
+        } else {
+            zero
         };
         let mut hub = zero;
         if let Some((torque, v_s)) = self.coulomb {
-            hub -= torque * DualNum::tanh(&(rate / D::from(v_s)));
+            hub -= torque * tanh(rate / D::from(v_s));
         }
-        if let Some(c_d) = self.drag {
-            hub -= c_d * abs(rate) * rate;
+        if let Some((c_d, exponent)) = self.drag {
+            hub -= match exponent {
+                // |v|^p sign v, with |v|^p = exp(p ln|v|) (0 at rest).
+                Some(p) if rate.re() != 0.0 => {
+                    c_d * DualNum::exp(&(p * DualNum::ln(&abs(rate)))) * signum(rate)
+                }
+                Some(_) => zero,
+                None => c_d * abs(rate) * rate,
+            };
+        }
+        if let Some(k3) = self.cubic {
+            hub -= k3 * theta * theta * theta;
         }
         (servo, hub)
     }
@@ -142,7 +193,59 @@ impl<D: Scalar> Dynamics<D> {
     }
 }
 
+/// The smooth limiter, or an ideal clamp (not differentiable at the corner; truth data only).
+fn limit_with<D: Scalar>(value: D, limit: D, sharp: bool) -> D {
+    if !sharp {
+        return smooth_limit(value, limit);
+    }
+    if value.re() > limit.re() {
+        limit
+    } else if value.re() < -limit.re() {
+        -limit
+    } else {
+        value
+    }
+}
+
+/// tanh x as s(1 − e)/(1 + e) with e = exp(−2|x|) ≤ 1 and s = sign x: finite value and
+/// derivative for every x (num-dual's sinh/cosh quotient overflows to NaN beyond |x| ≈ 355,
+/// which a sharp friction law reaches at ordinary speeds).
+pub fn tanh<D: Scalar>(x: D) -> D {
+    let s = if x.re() < 0.0 { -1.0 } else { 1.0 };
+    let e = DualNum::exp(&(x * D::from(-2.0 * s)));
+    (D::from(1.0) - e) / (D::from(1.0) + e) * D::from(s)
+}
+
+/// sign(x) as a scalar (0 at 0).
+fn signum<D: Scalar>(x: D) -> D {
+    D::from(if x.re() > 0.0 {
+        1.0
+    } else if x.re() < 0.0 {
+        -1.0
+    } else {
+        0.0
+    })
+}
+
 /// |x| for any scalar (via its sign, so dual parts get sign(x)·ẋ).
 fn abs<D: Scalar>(x: D) -> D {
     if x.re() < 0.0 { -x } else { x }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use num_dual::Dual64;
+
+    #[test]
+    fn tanh_is_finite_with_its_derivative_at_any_argument() {
+        for x in [-1e6, -400.0, -20.0, -0.3, 0.0, 1e-9, 0.7, 35.0, 400.0, 1e6] {
+            let t = tanh(Dual64::new(x, 1.0));
+            assert!((t.re - f64::tanh(x)).abs() < 1e-15, "{x}");
+            // sech²x, written without cancellation.
+            let e = (-2.0 * x.abs()).exp();
+            let exact = 4.0 * e / (1.0 + e).powi(2);
+            assert!((t.eps - exact).abs() <= 1e-14 * exact.max(1e-300) + 1e-300, "{x}: {} vs {exact}", t.eps);
+        }
+    }
 }

@@ -81,6 +81,18 @@ pub enum ParamId {
     Delay,
     /// `offset_<output>` of `OutputOffset`.
     Offset(Sensor),
+    /// `scale_<output>` of `SensorScale`.
+    Scale(Sensor),
+    /// `drift_<output>` of `SensorDrift`.
+    Drift(Sensor),
+    /// `voltage_limit` of `VoltageSaturation`.
+    VoltageLimit,
+    /// `drag_exponent` of `QuadraticDrag` (when given).
+    DragExponent,
+    /// `cubic_stiffness` of `CubicStiffness`.
+    CubicStiffness,
+    /// `extra_mode_stiffness_coupling` of `UnmodeledMode` (when given).
+    ExtraModeStiffnessCoupling,
     /// `extra_mode_frequency` of `UnmodeledMode`.
     ExtraModeFrequency,
     /// `extra_mode_damping` of `UnmodeledMode`.
@@ -116,8 +128,12 @@ const CORE: [(&str, ParamId, &str); 13] = [
     ("amplifier_gain", ParamId::AmplifierGain, "motor.amplifier_gain"),
 ];
 
-const EFFECT_PARAMS: [(&str, ParamId, &str); 7] = [
+const EFFECT_PARAMS: [(&str, ParamId, &str); 11] = [
     ("current_limit", ParamId::CurrentLimit, "current_limit"),
+    ("voltage_limit", ParamId::VoltageLimit, "voltage_limit"),
+    ("drag_exponent", ParamId::DragExponent, "exponent"),
+    ("cubic_stiffness", ParamId::CubicStiffness, "coefficient"),
+    ("extra_mode_stiffness_coupling", ParamId::ExtraModeStiffnessCoupling, "stiffness_coupling"),
     ("coulomb_torque", ParamId::CoulombTorque, "torque"),
     ("drag_hub", ParamId::DragHub, "hub"),
     ("delay", ParamId::Delay, "delay"),
@@ -132,6 +148,8 @@ impl ParamId {
         match self {
             ParamId::ModalDamping(i) => format!("modal_damping_{i}"),
             ParamId::Offset(s) => format!("offset_{}", s.output_name()),
+            ParamId::Scale(s) => format!("scale_{}", s.output_name()),
+            ParamId::Drift(s) => format!("drift_{}", s.output_name()),
             other => CORE
                 .iter()
                 .chain(EFFECT_PARAMS.iter())
@@ -147,6 +165,8 @@ impl ParamId {
         match self {
             ParamId::ModalDamping(i) => format!("modal_damping[{}]", i - 1),
             ParamId::Offset(_) => "effects.offset".into(),
+            ParamId::Scale(_) => "effects.scale".into(),
+            ParamId::Drift(_) => "effects.rate".into(),
             other => CORE
                 .iter()
                 .map(|(_, id, path)| (*id, (*path).to_string()))
@@ -169,8 +189,15 @@ impl ParamId {
             | ParamId::AmplifierGain
             | ParamId::CurrentLimit
             | ParamId::Delay
+            | ParamId::VoltageLimit
+            | ParamId::DragExponent
             | ParamId::ExtraModeFrequency => SignRule::Positive,
-            ParamId::Offset(_) | ParamId::ExtraModeCoupling => SignRule::Any,
+            ParamId::Offset(_)
+            | ParamId::Scale(_)
+            | ParamId::Drift(_)
+            | ParamId::CubicStiffness
+            | ParamId::ExtraModeCoupling
+            | ParamId::ExtraModeStiffnessCoupling => SignRule::Any,
             _ => SignRule::NonNegative,
         }
     }
@@ -209,13 +236,28 @@ impl ParamId {
     pub fn of_effect<D>(effect: &Effect<D>) -> Vec<ParamId> {
         match effect {
             Effect::AmplifierSaturation { .. } => vec![ParamId::CurrentLimit],
+            Effect::VoltageSaturation { .. } => vec![ParamId::VoltageLimit],
             Effect::CoulombFriction { .. } => vec![ParamId::CoulombTorque],
-            Effect::QuadraticDrag { .. } => vec![ParamId::DragHub],
+            Effect::QuadraticDrag { exponent, .. } => {
+                let mut ids = vec![ParamId::DragHub];
+                if exponent.is_some() {
+                    ids.push(ParamId::DragExponent);
+                }
+                ids
+            }
+            Effect::CubicStiffness { .. } => vec![ParamId::CubicStiffness],
             Effect::SensorQuantization { .. } => vec![],
             Effect::OutputOffset { sensor, .. } => vec![ParamId::Offset(*sensor)],
+            Effect::SensorScale { sensor, .. } => vec![ParamId::Scale(*sensor)],
+            Effect::SensorDrift { sensor, .. } => vec![ParamId::Drift(*sensor)],
             Effect::TimeDelay { .. } => vec![ParamId::Delay],
-            Effect::UnmodeledMode { .. } => {
-                vec![ParamId::ExtraModeFrequency, ParamId::ExtraModeDamping, ParamId::ExtraModeCoupling]
+            Effect::UnmodeledMode { stiffness_coupling, .. } => {
+                let mut ids =
+                    vec![ParamId::ExtraModeFrequency, ParamId::ExtraModeDamping, ParamId::ExtraModeCoupling];
+                if stiffness_coupling.is_some() {
+                    ids.push(ParamId::ExtraModeStiffnessCoupling);
+                }
+                ids
             }
         }
     }
@@ -260,10 +302,19 @@ macro_rules! effect_field {
     ([$($borrow:tt)+] $effects:expr, $id:expr) => {
         $effects.into_iter().find_map(|e| match (e, $id) {
             (Effect::AmplifierSaturation { current_limit, .. }, ParamId::CurrentLimit) => Some(current_limit),
+            (Effect::VoltageSaturation { voltage_limit, .. }, ParamId::VoltageLimit) => Some(voltage_limit),
             (Effect::CoulombFriction { torque, .. }, ParamId::CoulombTorque) => Some(torque),
-            (Effect::QuadraticDrag { hub }, ParamId::DragHub) => Some(hub),
+            (Effect::QuadraticDrag { hub, .. }, ParamId::DragHub) => Some(hub),
+            (Effect::QuadraticDrag { exponent: Some(p), .. }, ParamId::DragExponent) => Some(p),
+            (Effect::CubicStiffness { coefficient }, ParamId::CubicStiffness) => Some(coefficient),
             (Effect::TimeDelay { delay }, ParamId::Delay) => Some(delay),
             (Effect::OutputOffset { sensor, offset }, ParamId::Offset(s)) if *sensor == s => Some(offset),
+            (Effect::SensorScale { sensor, scale }, ParamId::Scale(s)) if *sensor == s => Some(scale),
+            (Effect::SensorDrift { sensor, rate }, ParamId::Drift(s)) if *sensor == s => Some(rate),
+            (
+                Effect::UnmodeledMode { stiffness_coupling: Some(k), .. },
+                ParamId::ExtraModeStiffnessCoupling,
+            ) => Some(k),
             (Effect::UnmodeledMode { frequency_hz, .. }, ParamId::ExtraModeFrequency) => Some(frequency_hz),
             (Effect::UnmodeledMode { damping_ratio, .. }, ParamId::ExtraModeDamping) => Some(damping_ratio),
             (Effect::UnmodeledMode { coupling, .. }, ParamId::ExtraModeCoupling) => Some(coupling),

@@ -1,7 +1,7 @@
 //! The experiment's sensors and the output matrix C.
 
+use crate::Constants;
 use crate::assemble::{Layout, Scalar, SecondOrder};
-use crate::{Constants, Effect};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
@@ -50,15 +50,6 @@ pub fn output_matrix<D: Scalar>(c: &Constants<D>, so: &SecondOrder<D>, sensors: 
             Sensor::StrainGauge => {
                 for (i, mode) in so.modes.iter().enumerate() {
                     out[(row, i + 1)] = c.thickness * D::from(0.5e6) * mode.root_curvature;
-                }
-            }
-        }
-        if let Some(col) = layout.offset {
-            for e in &c.effects {
-                if let Effect::OutputOffset { sensor: s, offset } = e
-                    && s == sensor
-                {
-                    out[(row, col)] = *offset;
                 }
             }
         }

@@ -36,13 +36,54 @@ fn short_delay_barely_moves_the_modes() {
 }
 
 #[test]
-fn output_offset_shifts_the_output() {
-    let m = with_effects("OutputOffset(sensor: Potentiometer, offset: 0.02)");
-    let ss = m.state_space().unwrap();
-    let y0: f64 = (0..m.n_states()).map(|j| ss.c[(0, j)] * ss.x0[j]).sum();
-    assert!((y0 - (0.5 + 0.02)).abs() < 1e-15);
-    assert!(m.parameter("offset_theta").is_ok());
+fn sensor_effects_are_listed_for_the_adapter_and_leave_the_dynamics_alone() {
+    let m = with_effects(
+        "OutputOffset(sensor: Potentiometer, offset: 0.02), SensorScale(sensor: Tachometer, scale: 0.05), SensorDrift(sensor: StrainGauge, rate: 0.1)",
+    );
+    // Measurement-side: the state space is the paper's.
+    assert_eq!(m.n_states(), SlewingModel::paper().n_states());
+    let listed: Vec<(usize, plant::EffectKind)> =
+        m.sensor_effects().iter().map(|(o, e)| (*o, e.kind())).collect();
+    assert_eq!(
+        listed,
+        vec![
+            (0, plant::EffectKind::OutputOffset),
+            (1, plant::EffectKind::SensorScale),
+            (2, plant::EffectKind::SensorDrift)
+        ]
+    );
+    for name in ["offset_theta", "scale_theta_dot", "drift_strain"] {
+        assert!(m.parameter(name).is_ok(), "{name}");
+    }
     assert!(m.parameter("offset_strain").is_err());
+}
+
+#[test]
+fn new_nonlinear_effects_reduce_to_known_forms() {
+    // A huge voltage limit is the linear model; drag with exponent 2 is the quadratic drag.
+    let linear = with_effects("VoltageSaturation(voltage_limit: 1e9)");
+    let quadratic = with_effects("QuadraticDrag(hub: 0.05)");
+    let power =
+        with_effects("QuadraticDrag(hub: 0.05, exponent: Some(2.0)), CubicStiffness(coefficient: 0.0)");
+    let a = SlewingModel::paper().state_space().unwrap().a;
+    let x: Vec<f64> = (0..a.nrows()).map(|i| 0.3 * (i as f64 + 1.0).sin()).collect();
+    let rhs = |m: &SlewingModel| {
+        let mut f = vec![0.0; x.len()];
+        m.dynamics_with(|v| *v).unwrap().rhs(&x, &mut f);
+        f
+    };
+    let (fl, fq, fp) = (rhs(&linear), rhs(&quadratic), rhs(&power));
+    for i in 0..x.len() {
+        let lin: f64 = (0..x.len()).map(|j| a[(i, j)] * x[j]).sum();
+        assert!((fl[i] - lin).abs() < 1e-9 * (1.0 + lin.abs()), "voltage row {i}");
+        assert!((fq[i] - fp[i]).abs() < 1e-12 * (1.0 + fq[i].abs()), "drag row {i}");
+    }
+    // A cubic stiffness adds −k₃θ³ to the hub's equation: compare with the linear right-hand side.
+    let cubic = with_effects("CubicStiffness(coefficient: 2.0)");
+    let fc = rhs(&cubic);
+    let fb = rhs(&SlewingModel::paper());
+    let hub = cubic.layout().n_dof;
+    assert!(fc[hub] < fb[hub], "a hardening spring pulls θ = {} back", x[0]);
 }
 
 #[test]
@@ -78,13 +119,19 @@ fn smooth_limiter_is_linear_below_and_clamped_above() {
 #[test]
 fn effect_parameters_have_exact_derivatives() {
     let m = with_effects(
-        "UnmodeledMode(frequency_hz: 4.2, damping_ratio: 0.03, coupling: 0.05), TimeDelay(delay: 0.02), OutputOffset(sensor: StrainGauge, offset: 3.0)",
+        "UnmodeledMode(frequency_hz: 4.2, damping_ratio: 0.03, coupling: 0.05, stiffness_coupling: Some(0.4)), TimeDelay(delay: 0.02)",
     );
-    let ids: Vec<ParamId> =
-        ["extra_mode_frequency", "extra_mode_damping", "extra_mode_coupling", "delay", "offset_strain", "kp"]
-            .iter()
-            .map(|n| m.parameter(n).unwrap())
-            .collect();
+    let ids: Vec<ParamId> = [
+        "extra_mode_frequency",
+        "extra_mode_damping",
+        "extra_mode_coupling",
+        "extra_mode_stiffness_coupling",
+        "delay",
+        "kp",
+    ]
+    .iter()
+    .map(|n| m.parameter(n).unwrap())
+    .collect();
     let lin = m.linearization(&ids).unwrap();
     for (k, &id) in ids.iter().enumerate() {
         let v = m.get(id);

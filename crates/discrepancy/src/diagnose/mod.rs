@@ -1,0 +1,615 @@
+//! The discrepancy workflow: baseline fit → localise → refit with each candidate effect →
+//! score every candidate by the same likelihood, in sample and on held-out blocks → name the
+//! effect that earns its name, or say `none` and describe what remains.
+//!
+//! An effect is named only when all of these hold (each is a [`Verdict`] when it fails):
+//! 1. its refit improves the in-sample likelihood beyond the BIC penalty of its parameters
+//!    (ΔBIC < −10, "very strong" on the Kass–Raftery scale);
+//! 2. its strength is resolved from "no effect" (|z| ≥ 3 with the fit's standard error, which
+//!    carries the residual's correlation);
+//! 3. fitted on alternate blocks of the record, it predicts the other blocks better than the
+//!    baseline does, by more than the threshold (held-out log-likelihood, [`evidence`]);
+//! 4. it still does so when the model's own linear parameters (modal damping, hub inertia,
+//!    beam stiffness) are freed as well: a parameter mismatch is not a missing effect.
+//!
+//! Sensor quantization is a measurement model, not a force: it is named when the raw readings
+//! of a sensor lie on a lattice while the signal moves, with a step comparable to the noise or
+//! larger ([`crate::quantization`]).
+
+pub mod catalog;
+pub mod evidence;
+mod residual;
+mod run;
+
+pub use residual::{Band, ResidualStructure};
+
+use crate::WorkflowError;
+use crate::localise::{Localisation, localise};
+use crate::quantization::{self, Lattice};
+use catalog::Trial;
+use mem::Measurement;
+use models::{FitOutcome, Model, align};
+use plant::{Effect, EffectKind, ParamId, Sensor, SlewingModel};
+use rayon::prelude::*;
+use run::{Fitted, Folds};
+use serde::Serialize;
+
+/// Settings of [`diagnose`].
+#[derive(Clone, Debug)]
+pub struct DiagnoseOptions {
+    /// Parameters refitted in the baseline and in every candidate.
+    pub free: Vec<String>,
+    /// Fit every R-th sample after the anti-aliasing filter (the lattice of a quantized sensor
+    /// is looked for in the raw readings).
+    pub decimate: Option<usize>,
+    /// Only try these effects (all if empty).
+    pub only: Vec<EffectKind>,
+    /// Held-out log-likelihood gain (nats, summed over both folds) an effect needs beyond the
+    /// baseline's, with the model's own parameters free in both.
+    pub threshold: f64,
+    /// The in-sample ΔBIC a candidate needs to be scored out of sample.
+    pub bic_threshold: f64,
+    /// The |z| of its strength a candidate needs.
+    pub min_strength_z: f64,
+    /// How many candidates (best in-sample evidence first) are scored out of sample.
+    pub shortlist: usize,
+}
+
+/// Calibrated on the nulls of the diagnosis study (docs/diagnose.md): the held-out gain that
+/// white, coloured and mismatched nulls leave below in 95 % of datasets or more.
+pub const DEFAULT_THRESHOLD: f64 = 10.0;
+
+impl DiagnoseOptions {
+    /// The calibrated defaults, every catalog effect, no decimation.
+    pub fn new(free: &[&str]) -> Self {
+        Self {
+            free: free.iter().map(|s| s.to_string()).collect(),
+            decimate: None,
+            only: Vec::new(),
+            threshold: DEFAULT_THRESHOLD,
+            bic_threshold: 10.0,
+            min_strength_z: 3.0,
+            shortlist: 4,
+        }
+    }
+}
+
+/// Progress of a diagnosis (argmin's `Observe`): the CLI draws a bar from it.
+pub trait Observe: Sync {
+    /// `done` of `total` fits of the current `stage` are finished.
+    fn progress(&self, _stage: &str, _done: usize, _total: usize) {}
+}
+
+/// An observer that ignores progress.
+pub struct Quiet;
+impl Observe for Quiet {}
+
+/// A parameter of an effect, as fitted.
+#[derive(Clone, Debug, Serialize)]
+pub struct EffectParameter {
+    /// Parameter name (`current_limit`, `offset_theta`, …).
+    pub name: String,
+    /// Fitted value.
+    pub value: f64,
+    /// Standard error, where the data determine it.
+    pub std_error: Option<f64>,
+}
+
+/// The evidence for one candidate, every figure a difference of the same log-likelihood
+/// ([`evidence`]) to the baseline's.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Evidence {
+    /// In-sample log-likelihood gain (nats).
+    pub in_sample: f64,
+    /// ΔBIC = −2·in_sample + k ln m (negative is better).
+    pub delta_bic: f64,
+    /// Held-out log-likelihood gain over both folds (nats), if scored.
+    pub held_out: Option<f64>,
+    /// Held-out gain with the model's own linear parameters free in both fits, if scored.
+    pub beyond_mismatch: Option<f64>,
+    /// The strength's distance from "no effect" in standard errors (smallest over its strength
+    /// parameters).
+    pub strength_z: f64,
+    /// 1 − ‖Y_error‖/baseline ‖Y_error‖.
+    pub reduction: f64,
+    /// Smallest Ljung–Box p-value of the refit's residuals over the outputs.
+    pub whiteness_p: f64,
+}
+
+/// Why a candidate was or was not named.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "verdict", content = "detail")]
+pub enum Verdict {
+    /// It earns its name: the answer.
+    Named,
+    /// It passed every test, but another candidate has more held-out evidence.
+    Outscored,
+    /// Its in-sample gain does not pay for its parameters (ΔBIC ≥ −bic_threshold).
+    Weak,
+    /// Its strength is not resolved from "no effect".
+    Unresolved,
+    /// It was not among the best candidates scored out of sample.
+    NotShortlisted,
+    /// Fitted on half the record, it does not predict the other half better by the threshold.
+    NotPredictive,
+    /// With the model's own parameters free, it adds less than the threshold: a parameter
+    /// mismatch explains the residual as well.
+    Mismatch,
+    /// A lattice that is not there, or a step far below the noise.
+    NoLattice,
+    /// The refit failed (the message says why).
+    Failed(String),
+}
+
+/// One candidate effect and its evidence.
+#[derive(Clone, Debug, Serialize)]
+pub struct Candidate {
+    /// Its kind.
+    #[serde(rename = "effect")]
+    pub kind: EffectKind,
+    /// The sensor, for a sensor effect.
+    pub sensor: Option<Sensor>,
+    /// Catalog name with its target, e.g. `output_offset(theta)`.
+    pub label: String,
+    /// The effect's parameters.
+    pub parameters: Vec<EffectParameter>,
+    /// Its evidence.
+    pub evidence: Evidence,
+    /// The lattice, for sensor quantization.
+    pub lattice: Option<Lattice>,
+    /// The outcome.
+    #[serde(flatten)]
+    pub verdict: Verdict,
+    /// The refitted model.
+    #[serde(skip)]
+    pub model: Option<SlewingModel>,
+    /// The refit.
+    #[serde(skip)]
+    pub outcome: Option<FitOutcome>,
+}
+
+/// The answer of [`diagnose`].
+#[derive(Clone, Debug)]
+pub struct Diagnosis {
+    /// The baseline fit.
+    pub baseline: FitOutcome,
+    /// Where it disagrees with the data.
+    pub localisation: Localisation,
+    /// What the baseline's residual holds beyond noise, and where.
+    pub residual: ResidualStructure,
+    /// The model's own parameters freed to tell a mismatch from a missing effect.
+    pub mismatch_parameters: Vec<String>,
+    /// Held-out gain of freeing them alone (nats), if scored.
+    pub mismatch_gain: Option<f64>,
+    /// All candidates, named first, then by evidence.
+    pub candidates: Vec<Candidate>,
+    /// Index of the named candidate.
+    pub chosen: Option<usize>,
+}
+
+impl Diagnosis {
+    /// The named effect's catalog name, or `"none"`.
+    pub fn effect(&self) -> &str {
+        self.chosen.map_or("none", |i| self.candidates[i].kind.name())
+    }
+    /// The named candidate.
+    pub fn named(&self) -> Option<&Candidate> {
+        self.chosen.map(|i| &self.candidates[i])
+    }
+    /// The augmented model (the baseline's fitted model if none is named).
+    pub fn augmented(&self) -> &SlewingModel {
+        self.named().and_then(|c| c.model.as_ref()).unwrap_or_else(|| slewing(&self.baseline.fitted))
+    }
+    /// The augmented model's error (the baseline's if none is named).
+    pub fn augmented_error(&self) -> f64 {
+        self.named().and_then(|c| c.outcome.as_ref()).map_or(self.baseline_error(), last_error)
+    }
+    /// The baseline's error.
+    pub fn baseline_error(&self) -> f64 {
+        last_error(&self.baseline)
+    }
+}
+
+fn last_error(outcome: &FitOutcome) -> f64 {
+    *outcome.report.error_history.last().expect("a history has its start")
+}
+
+/// Runs the workflow without progress reports.
+///
+/// # Errors
+/// As [`diagnose_observed`].
+pub fn diagnose(
+    model: &SlewingModel,
+    data: &Measurement,
+    options: &DiagnoseOptions,
+) -> Result<Diagnosis, WorkflowError> {
+    diagnose_observed(model, data, options, &Quiet)
+}
+
+/// Runs the workflow on a raw record (decimated here if the options say so), reporting progress.
+///
+/// # Errors
+/// Column mismatches and failures of the baseline fit (candidates that fail are reported, not
+/// fatal).
+pub fn diagnose_observed(
+    model: &SlewingModel,
+    raw: &Measurement,
+    options: &DiagnoseOptions,
+    observer: &dyn Observe,
+) -> Result<Diagnosis, WorkflowError> {
+    let wrapped = Model::Slewing(model.clone());
+    let raw = align(&wrapped, raw)?;
+    let data = match options.decimate {
+        Some(r) if r > 1 => raw.decimate(r)?,
+        _ => raw.clone(),
+    };
+    let folds = Folds::new(&data);
+    observer.progress("baseline", 0, 1);
+    let baseline = Fitted::full(&wrapped, &data, &options.free, 100)?;
+    observer.progress("baseline", 1, 1);
+    let localisation = localise(&data, &baseline.outcome);
+    let start = slewing(&baseline.outcome.fitted).clone();
+    let wanted = |kind: EffectKind| options.only.is_empty() || options.only.contains(&kind);
+    let trials: Vec<Trial> =
+        catalog::trials(&start, &localisation).into_iter().filter(|t| wanted(t.kind)).collect();
+    let total = trials.len();
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let fits: Vec<Result<Fitted, WorkflowError>> = trials
+        .par_iter()
+        .map(|trial| {
+            let result = run::fit_trial(&start, trial, &options.free, &data, None, 60);
+            observer.progress(
+                "candidates",
+                done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
+                total,
+            );
+            result
+        })
+        .collect();
+    let m = (data.n_samples() * data.n_outputs()) as f64;
+    let mut candidates: Vec<Candidate> = trials
+        .iter()
+        .zip(fits)
+        .map(|(trial, fit)| match fit {
+            Ok(fit) => {
+                let in_sample = evidence::gain(&fit.likelihoods, &baseline.likelihoods);
+                let parameters = run::effect_parameters(&fit.outcome, trial);
+                let evidence = Evidence {
+                    in_sample,
+                    delta_bic: -2.0 * in_sample + parameters.len() as f64 * m.ln(),
+                    held_out: None,
+                    beyond_mismatch: None,
+                    strength_z: run::strength_z(&fit.outcome, trial),
+                    reduction: 1.0 - last_error(&fit.outcome) / last_error(&baseline.outcome),
+                    whiteness_p: run::whiteness(&fit.outcome),
+                };
+                let verdict = if evidence.delta_bic >= -options.bic_threshold {
+                    Verdict::Weak
+                } else if evidence.strength_z < options.min_strength_z {
+                    Verdict::Unresolved
+                } else {
+                    Verdict::NotShortlisted
+                };
+                Candidate {
+                    kind: trial.kind,
+                    sensor: trial.sensor,
+                    label: trial.label.clone(),
+                    parameters,
+                    evidence,
+                    lattice: None,
+                    verdict,
+                    model: Some(slewing(&fit.outcome.fitted).clone()),
+                    outcome: Some(fit.outcome),
+                }
+            }
+            Err(e) => failed(trial, e.to_string()),
+        })
+        .collect();
+    // The shortlist, best in-sample evidence first, is scored out of sample.
+    let mut order: Vec<usize> =
+        (0..candidates.len()).filter(|&i| candidates[i].verdict == Verdict::NotShortlisted).collect();
+    order.sort_by(|&a, &b| candidates[a].evidence.delta_bic.total_cmp(&candidates[b].evidence.delta_bic));
+    order.truncate(options.shortlist);
+    let mismatch = run::mismatch_parameters(&start, &options.free);
+    let mut mismatch_gain = None;
+    if !order.is_empty() {
+        let jobs: Vec<(run::Job, usize)> = std::iter::once(run::Job::Baseline { extended: false })
+            .chain(std::iter::once(run::Job::Baseline { extended: true }))
+            .chain(order.iter().flat_map(|&i| {
+                [
+                    run::Job::Candidate { index: i, extended: false },
+                    run::Job::Candidate { index: i, extended: true },
+                ]
+            }))
+            .flat_map(|job| [0, 1].map(|fold| (job.clone(), fold)))
+            .collect();
+        let total = jobs.len();
+        let done = std::sync::atomic::AtomicUsize::new(0);
+        let scores: Vec<(run::Job, usize, Result<Vec<f64>, WorkflowError>)> = jobs
+            .into_par_iter()
+            .map(|(job, fold)| {
+                let result = run::held_out(
+                    &job,
+                    fold,
+                    &folds,
+                    &trials,
+                    &candidates,
+                    &start,
+                    options,
+                    &mismatch,
+                    &data,
+                );
+                observer.progress(
+                    "held-out",
+                    done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
+                    total,
+                );
+                (job, fold, result)
+            })
+            .collect();
+        let sum = |wanted: &run::Job| -> Option<Vec<f64>> {
+            let parts: Vec<&Vec<f64>> = scores
+                .iter()
+                .filter(|(job, _, _)| job == wanted)
+                .map(|(_, _, r)| r.as_ref().ok())
+                .collect::<Option<Vec<_>>>()?;
+            (parts.len() == 2).then(|| parts[0].iter().zip(parts[1]).map(|(a, b)| a + b).collect())
+        };
+        let base = sum(&run::Job::Baseline { extended: false });
+        let base_extended = sum(&run::Job::Baseline { extended: true });
+        if let (Some(b), Some(e)) = (&base, &base_extended) {
+            mismatch_gain = Some(evidence::gain(e, b));
+        }
+        for &i in &order {
+            let plain = sum(&run::Job::Candidate { index: i, extended: false });
+            let extended = sum(&run::Job::Candidate { index: i, extended: true });
+            let c = &mut candidates[i];
+            c.evidence.held_out = plain.as_ref().zip(base.as_ref()).map(|(c, b)| evidence::gain(c, b));
+            c.evidence.beyond_mismatch =
+                extended.as_ref().zip(base_extended.as_ref()).map(|(c, b)| evidence::gain(c, b));
+            c.verdict = match (c.evidence.held_out, c.evidence.beyond_mismatch) {
+                (None, _) | (_, None) => Verdict::Failed("a held-out refit failed".into()),
+                (Some(h), _) if h < options.threshold => Verdict::NotPredictive,
+                (_, Some(x)) if x < options.threshold => Verdict::Mismatch,
+                _ => Verdict::Outscored,
+            };
+        }
+    }
+    // Quantization: a lattice in the raw readings.
+    if wanted(EffectKind::SensorQuantization) {
+        candidates.extend(quantization_candidates(&start, &raw, &baseline.outcome, options)?);
+    }
+    let chosen = choose(&candidates);
+    if let Some(i) = chosen {
+        candidates[i].verdict = Verdict::Named;
+    }
+    // Named first, then by held-out evidence, then in-sample.
+    let mut indexed: Vec<(usize, Candidate)> = candidates.into_iter().enumerate().collect();
+    indexed.sort_by(|(i, a), (j, b)| {
+        (Some(*j) == chosen).cmp(&(Some(*i) == chosen)).then_with(|| {
+            let key = |c: &Candidate| c.evidence.beyond_mismatch.unwrap_or(f64::NEG_INFINITY);
+            key(b).total_cmp(&key(a)).then(a.evidence.delta_bic.total_cmp(&b.evidence.delta_bic))
+        })
+    });
+    let chosen = chosen.map(|_| 0);
+    let candidates: Vec<Candidate> = indexed.into_iter().map(|(_, c)| c).collect();
+    let residual = ResidualStructure::of(&baseline.outcome);
+    Ok(Diagnosis {
+        baseline: baseline.outcome,
+        localisation,
+        residual,
+        mismatch_parameters: mismatch,
+        mismatch_gain,
+        candidates,
+        chosen,
+    })
+}
+
+/// The named candidate: a proven lattice that matters first (a measurement fact), else the
+/// candidate with the most held-out evidence beyond a mismatch among those that pass.
+fn choose(candidates: &[Candidate]) -> Option<usize> {
+    let lattice = candidates
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.kind == EffectKind::SensorQuantization && c.verdict == Verdict::Outscored)
+        .max_by(|(_, a), (_, b)| {
+            let ratio = |c: &Candidate| c.lattice.map_or(0.0, |l| l.step / l.noise.max(f64::MIN_POSITIVE));
+            ratio(a).total_cmp(&ratio(b))
+        })
+        .map(|(i, _)| i);
+    lattice.or_else(|| {
+        candidates
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.verdict == Verdict::Outscored && c.kind != EffectKind::SensorQuantization)
+            .max_by(|(_, a), (_, b)| {
+                let key = |c: &Candidate| c.evidence.beyond_mismatch.unwrap_or(f64::NEG_INFINITY);
+                key(a).total_cmp(&key(b))
+            })
+            .map(|(i, _)| i)
+    })
+}
+
+/// The z a blurred lattice's phase must hold by on the second half of the moving samples.
+const LATTICE_Z: f64 = 8.0;
+
+/// One candidate per sensor not yet quantized whose raw readings hold a lattice; named
+/// (`Outscored` until chosen) when the lattice matters, refitted with the quantizer.
+fn quantization_candidates(
+    start: &SlewingModel,
+    raw: &Measurement,
+    baseline: &FitOutcome,
+    options: &DiagnoseOptions,
+) -> Result<Vec<Candidate>, WorkflowError> {
+    let response = Model::Slewing(slewing(&baseline.fitted).clone()).response(&[])?;
+    let fitted = mem::sampled_response(response.as_ref(), raw, &[])?.outputs;
+    let mut out = Vec::new();
+    for (o, sensor) in start.sensors().iter().enumerate() {
+        if start.quantization()[o].is_some() {
+            continue;
+        }
+        let values: Vec<f64> = (0..raw.n_samples()).map(|k| raw.values()[(k, o)]).collect();
+        let n = values.len() as f64;
+        let variance = values.iter().enumerate().map(|(k, v)| (v - fitted[(k, o)]).powi(2)).sum::<f64>() / n;
+        let Some(lattice) = quantization::detect(&values, variance, LATTICE_Z) else { continue };
+        let label = format!("sensor_quantization({})", sensor.output_name());
+        let effect = Effect::SensorQuantization { sensor: *sensor, step: lattice.step };
+        let mut candidate = Candidate {
+            kind: EffectKind::SensorQuantization,
+            sensor: Some(*sensor),
+            label,
+            parameters: vec![EffectParameter {
+                name: format!("quantization_step_{}", sensor.output_name()),
+                value: lattice.step,
+                std_error: None,
+            }],
+            evidence: Evidence::default(),
+            lattice: Some(lattice),
+            verdict: if lattice.matters() { Verdict::Outscored } else { Verdict::NoLattice },
+            model: None,
+            outcome: None,
+        };
+        if lattice.matters() {
+            let mut model = start.clone();
+            model.add_effect(effect)?;
+            let data = match options.decimate {
+                Some(r) if r > 1 => raw.decimate(r)?,
+                _ => raw.clone(),
+            };
+            match run::refit(&Model::Slewing(model.clone()), &data, &options.free, None, 60) {
+                Ok(outcome) => {
+                    candidate.evidence.reduction = 1.0 - last_error(&outcome) / last_error(baseline);
+                    candidate.evidence.whiteness_p = run::whiteness(&outcome);
+                    candidate.model = Some(model);
+                    candidate.outcome = Some(outcome);
+                }
+                Err(e) => candidate.verdict = Verdict::Failed(e.to_string()),
+            }
+        }
+        out.push(candidate);
+    }
+    Ok(out)
+}
+
+fn failed(trial: &Trial, why: String) -> Candidate {
+    Candidate {
+        kind: trial.kind,
+        sensor: trial.sensor,
+        label: trial.label.clone(),
+        parameters: Vec::new(),
+        evidence: Evidence::default(),
+        lattice: None,
+        verdict: Verdict::Failed(why),
+        model: None,
+        outcome: None,
+    }
+}
+
+/// The slewing model inside a fitted model (diagnose works on slewing models).
+fn slewing(model: &Model) -> &SlewingModel {
+    model.as_slewing().expect("diagnose fits slewing models only")
+}
+
+/// The parameter ids of a trial's strength (for tests and reports).
+pub fn strength_parameters(trial: &Trial) -> Vec<ParamId> {
+    trial.strength.iter().map(|s| s.id()).collect()
+}
+
+/// The diagnosis as the JSON document of `memid diagnose --json` (docs/json.md).
+#[derive(Debug, Serialize)]
+pub struct DiagnosisReport<'a> {
+    /// The named effect's catalog name, or `none`.
+    pub effect: &'a str,
+    /// The named candidate's label (with its sensor), if one is named.
+    pub label: Option<&'a str>,
+    /// The named effect's parameters.
+    pub parameters: &'a [EffectParameter],
+    /// The answer in words: why this effect, or why none and what remains.
+    pub answer: Vec<String>,
+    /// ‖Y_error‖ of the baseline.
+    pub baseline_error: f64,
+    /// ‖Y_error‖ of the augmented model.
+    pub augmented_error: f64,
+    /// The model's own parameters freed to tell a mismatch from a missing effect.
+    pub mismatch_parameters: &'a [String],
+    /// Held-out gain of freeing them alone (nats).
+    pub mismatch_gain: Option<f64>,
+    /// What the baseline's residual holds.
+    pub residual: &'a ResidualStructure,
+    /// Every candidate with its evidence and verdict.
+    pub candidates: &'a [Candidate],
+    /// Where the baseline disagrees with the data.
+    pub localisation: &'a Localisation,
+}
+
+impl Diagnosis {
+    /// The answer in words.
+    pub fn answer(&self) -> Vec<String> {
+        match self.named() {
+            Some(c) => {
+                let why = match (&c.lattice, c.evidence.beyond_mismatch) {
+                    (Some(l), _) => format!(
+                        "{}: the raw readings lie on a lattice of step {:.4e} ({}), {:.1}× the noise σ",
+                        c.label,
+                        l.step,
+                        match l.form {
+                            quantization::LatticeForm::Exact { levels } =>
+                                format!("exactly, {levels} levels"),
+                            quantization::LatticeForm::Blurred { z, .. } =>
+                                format!("blurred by noise, its phase held by {z:.0} standard errors"),
+                        },
+                        l.step / l.noise.max(f64::MIN_POSITIVE)
+                    ),
+                    (None, Some(x)) => format!(
+                        "{}: fitted on alternate blocks it predicts the others better by {:.1} nats ({:.1} with the \
+                         model's own parameters free), ΔBIC {:.1}, strength {:.1} σ from none",
+                        c.label,
+                        c.evidence.held_out.unwrap_or(f64::NAN),
+                        x,
+                        c.evidence.delta_bic,
+                        c.evidence.strength_z
+                    ),
+                    (None, None) => c.label.clone(),
+                };
+                vec![why]
+            }
+            None => {
+                let mut out = vec!["none: no candidate of the catalog earns its name".to_string()];
+                if let Some(best) = self.candidates.iter().find(|c| c.evidence.held_out.is_some()) {
+                    out.push(format!(
+                        "the strongest candidate, {}, was {}",
+                        best.label,
+                        match &best.verdict {
+                            Verdict::NotPredictive => "not predictive on held-out blocks".to_string(),
+                            Verdict::Mismatch => format!(
+                                "matched by freeing the model's own parameters ({}): a parameter mismatch",
+                                self.mismatch_parameters.join(", ")
+                            ),
+                            other => format!("{other:?}"),
+                        }
+                    ));
+                }
+                out.extend(self.residual.sentences());
+                out
+            }
+        }
+    }
+
+    /// The JSON document.
+    pub fn report(&self) -> DiagnosisReport<'_> {
+        let named = self.named();
+        DiagnosisReport {
+            effect: self.effect(),
+            label: named.map(|c| c.label.as_str()),
+            parameters: named.map_or(&[], |c| c.parameters.as_slice()),
+            answer: self.answer(),
+            baseline_error: self.baseline_error(),
+            augmented_error: self.augmented_error(),
+            mismatch_parameters: &self.mismatch_parameters,
+            mismatch_gain: self.mismatch_gain,
+            residual: &self.residual,
+            candidates: &self.candidates,
+            localisation: &self.localisation,
+        }
+    }
+}

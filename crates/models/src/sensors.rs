@@ -1,0 +1,128 @@
+//! Measurement-side effects on any model: a sensor's offset b, scale error s and drift d act
+//! on its reading as y′ = (1 + s)·y + b + d·t (t from the model's t = 0), after the dynamics.
+//! Their sensitivities are exact and trivial — ∂y′/∂b = 1, ∂y′/∂s = y, ∂y′/∂d = t — and the
+//! dynamics' sensitivities are scaled by (1 + s). Quantization, the fourth sensor effect, is a
+//! reading model (`mem::Experiment::with_quantization`), not a transform.
+
+use expm::Response;
+use mem::{BoxedError, Grid, ResponseModel};
+use plant::EffectKind;
+
+/// Which transform a sensor term applies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SensorTerm {
+    /// y + b.
+    Offset,
+    /// (1 + s)·y.
+    Scale,
+    /// y + d·t.
+    Drift,
+}
+
+impl SensorTerm {
+    /// The term of a sensor effect kind.
+    pub fn of(kind: EffectKind) -> Option<Self> {
+        match kind {
+            EffectKind::OutputOffset => Some(SensorTerm::Offset),
+            EffectKind::SensorScale => Some(SensorTerm::Scale),
+            EffectKind::SensorDrift => Some(SensorTerm::Drift),
+            _ => None,
+        }
+    }
+}
+
+/// One sensor effect: on which output, which term, its value, and — when it is fitted — the
+/// position of its parameter after the dynamics' parameters.
+#[derive(Clone, Debug)]
+pub struct SensorEffect {
+    /// Output index.
+    pub output: usize,
+    /// The transform.
+    pub term: SensorTerm,
+    /// Its value (used when not free).
+    pub value: f64,
+    /// Its position in the parameter vector P, if fitted.
+    pub free: Option<usize>,
+}
+
+/// A response model with sensor effects on its outputs.
+pub struct WithSensors {
+    inner: Box<dyn ResponseModel + Send + Sync>,
+    effects: Vec<SensorEffect>,
+    /// The positions in P of the inner model's parameters, in its order.
+    physics: Vec<usize>,
+    n_params: usize,
+}
+
+impl WithSensors {
+    /// Wraps `inner`, whose parameters sit at `physics` in P; the free sensor effects name
+    /// their own positions. Every position of P is one of them.
+    pub fn new(
+        inner: Box<dyn ResponseModel + Send + Sync>,
+        effects: Vec<SensorEffect>,
+        physics: Vec<usize>,
+    ) -> Self {
+        let n_params = physics.len() + effects.iter().filter(|e| e.free.is_some()).count();
+        Self { inner, effects, physics, n_params }
+    }
+}
+
+impl ResponseModel for WithSensors {
+    fn n_params(&self) -> usize {
+        self.n_params
+    }
+    fn output_names(&self) -> Vec<String> {
+        self.inner.output_names()
+    }
+    fn input_names(&self) -> Vec<String> {
+        self.inner.input_names()
+    }
+    fn accuracy(&self) -> f64 {
+        self.inner.accuracy()
+    }
+    fn growth_rate(&self, p: &[f64]) -> Option<f64> {
+        let inner: Vec<f64> = self.physics.iter().map(|&i| p[i]).collect();
+        self.inner.growth_rate(&inner)
+    }
+    fn respond(&self, p: &[f64], grid: &Grid<'_>, out: &mut Response) -> Result<(), BoxedError> {
+        let j = self.physics.len();
+        let (k, n_out) = (out.outputs.nrows(), out.outputs.ncols());
+        let mut raw = Response::zeros(k, n_out, j);
+        let inner: Vec<f64> = self.physics.iter().map(|&i| p[i]).collect();
+        self.inner.respond(&inner, grid, &mut raw)?;
+        out.outputs.copy_from(&raw.outputs);
+        out.sensitivities.fill(0.0);
+        for (c, &i) in self.physics.iter().enumerate() {
+            out.sensitivities.as_mut().col_mut(i).copy_from(raw.sensitivities.col(c));
+        }
+        let value = |e: &SensorEffect| e.free.map_or(e.value, |i| p[i]);
+        // Scales first (they multiply the dynamics' output and sensitivities), then the sums.
+        for e in self.effects.iter().filter(|e| e.term == SensorTerm::Scale) {
+            let factor = 1.0 + value(e);
+            for t in 0..k {
+                out.outputs[(t, e.output)] *= factor;
+                for &i in &self.physics {
+                    out.sensitivities[(t * n_out + e.output, i)] *= factor;
+                }
+                if let Some(i) = e.free {
+                    out.sensitivities[(t * n_out + e.output, i)] = raw.outputs[(t, e.output)];
+                }
+            }
+        }
+        for e in self.effects.iter().filter(|e| e.term != SensorTerm::Scale) {
+            let v = value(e);
+            for t in 0..k {
+                let time = grid.start + t as f64 * grid.interval;
+                let (add, slope) = match e.term {
+                    SensorTerm::Offset => (v, 1.0),
+                    _ => (v * time, time),
+                };
+                out.outputs[(t, e.output)] += add;
+                if let Some(i) = e.free {
+                    out.sensitivities[(t * n_out + e.output, i)] = slope;
+                }
+            }
+        }
+        Ok(())
+    }
+}
