@@ -46,6 +46,9 @@ pub enum WorkflowError {
     /// ERA failed.
     #[error(transparent)]
     Era(#[from] era::EraError),
+    /// A candidate without a full refit cannot be scored out of sample.
+    #[error("candidate `{0}` has no full refit to start its held-out refits from")]
+    Unscored(String),
 }
 
 /// The effect kinds `diagnose` tries (what `--only` accepts): the catalog without backlash,

@@ -34,6 +34,8 @@ pub struct Localisation {
     pub decrement_trend: f64,
     /// Physical modes ERA finds in the residual (a peak the model lacks), strongest first.
     pub residual_modes: Vec<era::EraMode>,
+    /// Physical modes ERA finds in the measured data, strongest first.
+    pub data_modes: Vec<era::EraMode>,
     /// Findings in words.
     pub findings: Vec<String>,
 }
@@ -108,9 +110,8 @@ pub fn localise(data: &Measurement, outcome: &FitOutcome) -> Localisation {
         .map(|w| (0.5 * (w[0] + w[1]), (w[0] / w[1]).ln()))
         .collect();
     let decrement_trend = trend(&decrement_vs_amplitude);
-    let residual_modes = {
-        let weighted = faer::Mat::from_fn(k, p, |t, o| weights[o] * residual[(t, o)]);
-        match era::identify(weighted.as_ref(), data.interval(), 10) {
+    let modes_of = |series: faer::Mat<f64>, order: usize| -> Vec<era::EraMode> {
+        match era::identify(series.as_ref(), data.interval(), order) {
             Ok(r) => {
                 let mut modes: Vec<era::EraMode> = r
                     .modes
@@ -123,6 +124,8 @@ pub fn localise(data: &Measurement, outcome: &FitOutcome) -> Localisation {
             Err(_) => Vec::new(),
         }
     };
+    let residual_modes = modes_of(faer::Mat::from_fn(k, p, |t, o| weights[o] * residual[(t, o)]), 10);
+    let data_modes = modes_of(faer::Mat::from_fn(k, p, |t, o| weights[o] * data.values()[(t, o)]), 16);
     let mut findings = Vec::new();
     if let Some(o) = outputs.iter().max_by(|a, b| a.share.total_cmp(&b.share)) {
         findings.push(format!("output `{}` carries {:.0} % of the error", o.name, 100.0 * o.share));
@@ -160,7 +163,15 @@ pub fn localise(data: &Measurement, outcome: &FitOutcome) -> Localisation {
             100.0 * m.damping_ratio
         ));
     }
-    Localisation { outputs, windows, decrement_vs_amplitude, decrement_trend, residual_modes, findings }
+    Localisation {
+        outputs,
+        windows,
+        decrement_vs_amplitude,
+        decrement_trend,
+        residual_modes,
+        data_modes,
+        findings,
+    }
 }
 
 /// Slope of y on x, divided by the mean of y.

@@ -67,6 +67,6 @@ pub use exponential::expm;
 pub use frechet::{ExpmFrechet, expm_frechet, expm_frechet_many};
 pub use norm::norm1;
 pub use propagate::{
-    Forcing, Hold, MODAL_MIN_STATES, Method, Response, ResponseProblem, SensitivityPropagator, Strategy,
-    free_decay,
+    Forcing, Hold, MODAL_MIN_STATES, Method, Response, ResponseProblem, SensitivityPropagator, StepGains,
+    Strategy, free_decay, step_gains,
 };

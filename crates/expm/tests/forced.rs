@@ -32,7 +32,7 @@ fn respond(p: &[f64], hold: Hold, h: f64, n: usize, with_parameters: bool) -> Re
     let x0 = [0.01, 0.0, 0.0, 0.0];
     // ∂A, ∂B, ∂C, ∂D by hand for this small system (checked below against differences).
     let (m1, m2) = (1.0, 0.5);
-    let da = vec![
+    let da = [
         mat![[0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0], [-1.0 / m1, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0]],
         mat![
             [0.0, 0.0, 0.0, 0.0],
@@ -47,7 +47,7 @@ fn respond(p: &[f64], hold: Hold, h: f64, n: usize, with_parameters: bool) -> Re
             [0.0, 0.0, 0.0, -1.0 / m2]
         ],
     ];
-    let dc = vec![
+    let dc = [
         mat![[0.0, 0.0, 0.0, 0.0], [-1.0 / m1, 0.0, 0.0, 0.0]],
         mat![[0.0, 0.0, 0.0, 0.0], [-1.0 / m1, 1.0 / m1, 0.0, 0.0]],
         mat![[0.0, 0.0, 0.0, 0.0], [0.0, 0.0, -1.0 / m1, 0.0]],

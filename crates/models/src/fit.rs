@@ -4,7 +4,7 @@
 //! [`FitRequest::per_experiment`] (typically initial displacements or velocities) are estimated
 //! once per experiment, named `name@k` for experiment k (1-based) in the report.
 
-use crate::{Model, ModelError};
+use crate::{Integrator, Model, ModelError};
 use faer::Mat;
 use mem::{
     Covariance, DerivativeCheck, Experiment, Fit, FitReport, Measurement, Parameter, Problem, ResponseModel,
@@ -31,8 +31,11 @@ pub struct FitRequest {
     /// Per experiment, a weight per sample (0 leaves a sample out, e.g. a held-out block);
     /// empty: every sample of every experiment counts.
     pub sample_weights: Vec<Vec<f64>>,
-    /// The ODE solver's relative tolerance for a nonlinear model (None: its default, 10⁻⁹).
-    pub ode_tolerance: Option<f64>,
+    /// How a nonlinear model is integrated.
+    pub integrator: Integrator,
+    /// Stop when the predicted relative decrease of the error is below this (None: the MEM
+    /// default, 10⁻¹²).
+    pub cost_tolerance: Option<f64>,
 }
 
 impl FitRequest {
@@ -48,7 +51,8 @@ impl FitRequest {
             covariance: Covariance::Auto,
             max_iterations: 100,
             sample_weights: Vec::new(),
-            ode_tolerance: None,
+            integrator: Integrator::default(),
+            cost_tolerance: None,
         }
     }
 }
@@ -192,7 +196,7 @@ pub fn fit_experiments(
     }
     let local: Vec<&str> = shared.iter().chain(&own).copied().collect();
     let responses: Vec<Box<dyn ResponseModel + Send + Sync>> =
-        data.iter().map(|_| model.response_with(&local, request.ode_tolerance)).collect::<Result<_, _>>()?;
+        data.iter().map(|_| model.response_with(&local, request.integrator)).collect::<Result<_, _>>()?;
     let mut parameters: Vec<Parameter> = model.parameters(&shared)?;
     let own_parameters = model.parameters(&own)?;
     let several = data.len() > 1;
@@ -229,7 +233,11 @@ pub fn fit_experiments(
     let indices: Vec<Vec<usize>> =
         experiments.iter().map(|e| e.parameters.clone().unwrap_or_default()).collect();
     let problem = Problem::new(experiments, parameters)?;
-    let report = Fit::new()
+    let mut fit = Fit::new();
+    if let Some(tol) = request.cost_tolerance {
+        fit = fit.with_cost_tolerance(tol)?;
+    }
+    let report = fit
         .with_safeguard(request.safeguard)
         .with_derivative_check(request.derivative_check)
         .with_covariance(request.covariance)

@@ -17,6 +17,7 @@
 //! * [`fit`]: fitting a model to a measured record (aligning its columns, weighting, the
 //!   quantized readings of its sensors), with the curves around the fit.
 
+pub mod exponential;
 pub mod fit;
 pub mod model;
 pub mod ode;
@@ -25,8 +26,9 @@ pub mod simulate;
 pub mod slewing;
 pub mod structure;
 
+pub use exponential::ExponentialResponse;
 pub use fit::{ExperimentOutcome, FitOutcome, FitRequest, align, fit, fit_experiments};
-pub use model::{ModeRow, Model, ModelKind};
+pub use model::{Integrator, ModeRow, Model, ModelKind};
 pub use ode::{NonlinearError, NonlinearResponse};
 pub use simulate::{simulate, simulate_model};
 pub use slewing::SlewingFitModel;

@@ -3,6 +3,7 @@
 //! field), in one place: [`Model::from_ron`].
 
 use crate::ModelError;
+use crate::exponential::ExponentialResponse;
 use crate::ode::NonlinearResponse;
 use crate::sensors::{SensorEffect, SensorTerm, WithSensors};
 use crate::slewing::SlewingFitModel;
@@ -20,6 +21,29 @@ pub enum Model {
     Slewing(SlewingModel),
     /// Any linear structure (second- or first-order form, expressions of named parameters).
     Structure(StructureModel),
+}
+
+/// How a nonlinear slewing model is integrated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Integrator {
+    /// diffsol's adaptive Tsitouras 5(4) with forward sensitivities, to this relative tolerance
+    /// (`crate::ode`).
+    Adaptive {
+        /// Relative tolerance of the states (absolute: 1 % of it).
+        rtol: f64,
+    },
+    /// The exponential integrator (`crate::exponential`) with this longest substep \[s\].
+    Exponential {
+        /// Longest substep.
+        max_step: f64,
+    },
+}
+
+impl Default for Integrator {
+    /// The adaptive solver at its default tolerance.
+    fn default() -> Self {
+        Integrator::Adaptive { rtol: crate::ode::DEFAULT_RTOL }
+    }
 }
 
 /// Which kind of model a file describes.
@@ -299,18 +323,18 @@ impl Model {
     /// # Errors
     /// Unknown parameter names.
     pub fn response(&self, free: &[&str]) -> Result<Box<dyn ResponseModel + Send + Sync>, ModelError> {
-        self.response_with(free, None)
+        self.response_with(free, Integrator::default())
     }
 
-    /// As [`Model::response`], with the ODE solver's relative tolerance for a nonlinear model
-    /// (None: [`crate::ode::DEFAULT_RTOL`]; the exponential path is exact and ignores it).
+    /// As [`Model::response`], with the integrator of a nonlinear model (the exponential path
+    /// of a linear one is exact and ignores it).
     ///
     /// # Errors
     /// Unknown parameter names.
     pub fn response_with(
         &self,
         free: &[&str],
-        tolerance: Option<f64>,
+        integrator: Integrator,
     ) -> Result<Box<dyn ResponseModel + Send + Sync>, ModelError> {
         // The sensor effects' parameters are the adapter's; the rest are the dynamics'.
         let sensor_effects = self.sensor_effects();
@@ -320,10 +344,14 @@ impl Model {
             Model::Slewing(m) if m.is_linear() => {
                 Box::new(SlewingFitModel::new(m.clone(), &physics)?.response())
             }
-            Model::Slewing(m) => {
-                let rtol = tolerance.unwrap_or(crate::ode::DEFAULT_RTOL);
-                Box::new(NonlinearResponse::new(m.clone(), &physics)?.with_tolerances(rtol, 1e-2 * rtol))
-            }
+            Model::Slewing(m) => match integrator {
+                Integrator::Adaptive { rtol } => {
+                    Box::new(NonlinearResponse::new(m.clone(), &physics)?.with_tolerances(rtol, 1e-2 * rtol))
+                }
+                Integrator::Exponential { max_step } => {
+                    Box::new(ExponentialResponse::new(m.clone(), &physics)?.with_max_step(max_step))
+                }
+            },
             Model::Structure(m) => Box::new(StructureFitModel::new(m.clone(), &physics)?.response()),
         };
         if sensor_effects.is_empty() {

@@ -96,11 +96,7 @@ impl NonlinearResponse {
     }
 
     fn model_at(&self, p: &[f64]) -> Result<SlewingModel, PlantError> {
-        let mut m = self.model.clone();
-        for (id, v) in self.free.iter().zip(p) {
-            m.set(*id, *v)?;
-        }
-        Ok(m)
+        model_at(&self.model, &self.free, p)
     }
 
     /// Simulates at P: fills `out` (K × p outputs, (K·p) × j sensitivities) at
@@ -299,12 +295,6 @@ impl NonlinearResponse {
                 }
             });
         }
-        if std::env::var("MEMID_DEBUG2").is_ok() {
-            eprintln!(
-                "simulate j={j} evals={} p={p:?}",
-                evaluations.load(std::sync::atomic::Ordering::Relaxed)
-            );
-        }
         let c = &real.c;
         let p_out = c.nrows();
         for step in 0..k {
@@ -389,7 +379,7 @@ impl Linear {
 }
 
 /// The dynamics in dual numbers with ε = 1 on parameter `id` only.
-fn seed(model: &SlewingModel, id: ParamId) -> Result<Dynamics<Dual64>, PlantError> {
+pub(crate) fn seed(model: &SlewingModel, id: ParamId) -> Result<Dynamics<Dual64>, PlantError> {
     let mut constants = model.constants().map(|v| Dual64::from(*v));
     constants.field_mut(id).eps = 1.0;
     plant::nonlinear::dynamics(&constants, model.sensors())
@@ -403,14 +393,35 @@ impl ResponseModel for NonlinearResponse {
         self.model.output_names().iter().map(|s| s.to_string()).collect()
     }
     fn respond(&self, p: &[f64], grid: &Grid<'_>, out: &mut Response) -> Result<(), BoxedError> {
-        if grid.inputs.is_some() {
-            return Err(NonlinearError::Solver("this model takes no measured inputs".into()).into());
-        }
-        Ok(self.simulate(p, grid.start, grid.interval, out)?)
+        free_decay(grid, |start, h| self.simulate(p, start, h, out))
     }
     fn accuracy(&self) -> f64 {
         // The solver controls the local error to rtol; the global error of the outputs and
         // sensitivities is a few times that.
         10.0 * self.rtol
     }
+}
+
+/// `model` with the parameters `free` set to `p`.
+pub(crate) fn model_at(
+    model: &SlewingModel,
+    free: &[ParamId],
+    p: &[f64],
+) -> Result<SlewingModel, PlantError> {
+    let mut m = model.clone();
+    for (id, v) in free.iter().zip(p) {
+        m.set(*id, *v)?;
+    }
+    Ok(m)
+}
+
+/// A free decay's response on `grid` (a slewing model takes no measured inputs).
+pub(crate) fn free_decay(
+    grid: &Grid<'_>,
+    run: impl FnOnce(f64, f64) -> Result<(), NonlinearError>,
+) -> Result<(), BoxedError> {
+    if grid.inputs.is_some() {
+        return Err(NonlinearError::Solver("this model takes no measured inputs".into()).into());
+    }
+    Ok(run(grid.start, grid.interval)?)
 }

@@ -130,6 +130,32 @@ impl SlewingModel {
         Ok(())
     }
 
+    /// Removes the effect of `kind` (on `sensor`, for a sensor effect), with its bounds; a
+    /// no-op when the model has none.
+    ///
+    /// # Errors
+    /// As [`Self::from_ron`] (the model is rebuilt from its file).
+    pub fn remove_effect(
+        &mut self,
+        kind: crate::EffectKind,
+        sensor: Option<crate::Sensor>,
+    ) -> Result<(), PlantError> {
+        let mut file = self.file();
+        let removed: Vec<crate::Effect> =
+            file.effects.iter().filter(|e| e.kind() == kind && e.sensor() == sensor).cloned().collect();
+        if removed.is_empty() {
+            return Ok(());
+        }
+        file.effects.retain(|e| !(e.kind() == kind && e.sensor() == sensor));
+        for id in removed.iter().flat_map(crate::ParamId::of_effect) {
+            file.bounds.remove(&id.name());
+            file.free.retain(|name| *name != id.name());
+        }
+        let text = file.to_ron();
+        *self = Self::from_ron(&text, &self.origin)?;
+        Ok(())
+    }
+
     /// Sets (lower, upper) bounds for a parameter, used by fits.
     pub fn set_bounds(&mut self, id: ParamId, bounds: (f64, f64)) {
         self.file.bounds.insert(id.name(), bounds);

@@ -20,6 +20,21 @@ pub struct Trial {
     pub bounds: Vec<(ParamId, (f64, f64))>,
     /// How far from "no effect" the fitted effect is.
     pub strength: Vec<Strength>,
+    /// Other starting values of the same effect: a nonlinear effect's error surface can hold
+    /// a local minimum in which the free parameters partly stand in for it, and the refit keeps
+    /// the best of its starts.
+    pub alternatives: Vec<Effect>,
+    /// The effect of the model it takes the place of: a sibling already named (a current limit
+    /// for a voltage limit, or back), which an earlier run could not tell from this one.
+    pub replaces: Option<EffectKind>,
+}
+
+impl Trial {
+    /// Adds another starting point.
+    fn or_from(mut self, effect: Effect) -> Self {
+        self.alternatives.push(effect);
+        self
+    }
 }
 
 /// A parameter that measures an effect's strength, and where the effect vanishes.
@@ -82,6 +97,9 @@ struct Scales {
     demand_voltage: f64,
     /// A typical peak rate ω_servo·θ(0) \[rad/s\].
     rate: f64,
+    /// The rotating inertia about the hub, I_H + I_m + ρ((a + L)³ − a³)/3 \[kg·m²\]: a mode's
+    /// mass coupling c keeps the mass matrix positive only for c² < it.
+    inertia: f64,
 }
 
 fn scales(model: &SlewingModel) -> Scales {
@@ -99,6 +117,9 @@ fn scales(model: &SlewingModel) -> Scales {
         demand_current: c.amplifier_gain * c.position_gain * theta0 / c.armature_resistance,
         demand_voltage: c.amplifier_gain * c.position_gain * theta0,
         rate: omega * theta0,
+        inertia: c.hub_inertia
+            + c.motor_inertia
+            + c.mass_per_length * ((c.hub_radius + c.length).powi(3) - c.hub_radius.powi(3)) / 3.0,
     }
 }
 
@@ -110,7 +131,7 @@ fn trial(
 ) -> Trial {
     let kind = effect.kind();
     let sensor = effect.sensor();
-    Trial { effect, kind, sensor, label, bounds, strength }
+    Trial { effect, kind, sensor, label, bounds, strength, alternatives: Vec::new(), replaces: None }
 }
 
 /// The catalog's candidates for `model` (which already carries the effects found so far), with
@@ -120,18 +141,8 @@ pub fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
     let s = scales(model);
     let c = model.constants();
     let mut out = vec![
-        trial(
-            Effect::AmplifierSaturation { current_limit: 0.5 * s.demand_current, sharp: false },
-            "amplifier_saturation".into(),
-            vec![(ParamId::CurrentLimit, (0.01 * s.demand_current, 3.0 * s.demand_current))],
-            vec![Strength::Limit(ParamId::CurrentLimit, Demand::Current)],
-        ),
-        trial(
-            Effect::VoltageSaturation { voltage_limit: 0.5 * s.demand_voltage, sharp: false },
-            "voltage_saturation".into(),
-            vec![(ParamId::VoltageLimit, (0.01 * s.demand_voltage, 3.0 * s.demand_voltage))],
-            vec![Strength::Limit(ParamId::VoltageLimit, Demand::Voltage)],
-        ),
+        out_of(&s, EffectKind::AmplifierSaturation),
+        out_of(&s, EffectKind::VoltageSaturation),
         trial(
             // Smoothing over 0.05 % of the peak rate: a dry-friction switch, as sharp as the
             // solver follows without fuss.
@@ -142,7 +153,11 @@ pub fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
             "coulomb_friction".into(),
             vec![(ParamId::CoulombTorque, (0.0, s.servo_stiffness * s.theta0))],
             vec![Strength::Nonzero(ParamId::CoulombTorque)],
-        ),
+        )
+        .or_from(Effect::CoulombFriction {
+            torque: 0.1 * s.servo_stiffness * s.theta0,
+            smoothing_velocity: 5e-4 * s.rate,
+        }),
         trial(
             // Drag equal to 20 % of the viscous torque at the peak rate.
             Effect::QuadraticDrag { hub: 0.2 * c.viscous_damping.max(1e-3) / s.rate, exponent: Some(2.0) },
@@ -152,16 +167,20 @@ pub fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
                 (ParamId::DragExponent, (1.2, 3.5)),
             ],
             vec![Strength::Nonzero(ParamId::DragHub)],
-        ),
+        )
+        .or_from(Effect::QuadraticDrag { hub: c.viscous_damping.max(1e-3) / s.rate, exponent: Some(2.0) }),
         trial(
-            Effect::CubicStiffness { coefficient: 0.0 },
+            // Hardening and softening starts: a cubic changes the frequency with amplitude, and
+            // the position gain can take up part of it from either side of zero.
+            Effect::CubicStiffness { coefficient: 0.05 * s.servo_stiffness / s.theta0.powi(2) },
             "cubic_stiffness".into(),
             vec![(
                 ParamId::CubicStiffness,
                 (-10.0 * s.servo_stiffness / s.theta0.powi(2), 10.0 * s.servo_stiffness / s.theta0.powi(2)),
             )],
             vec![Strength::Nonzero(ParamId::CubicStiffness)],
-        ),
+        )
+        .or_from(Effect::CubicStiffness { coefficient: -0.05 * s.servo_stiffness / s.theta0.powi(2) }),
         trial(
             Effect::TimeDelay { delay: 0.02 },
             "time_delay".into(),
@@ -190,57 +209,131 @@ pub fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
             vec![Strength::Nonzero(ParamId::Drift(*sensor))],
         ));
     }
-    let existing: Vec<f64> =
-        model.modal().map(|rows| rows.iter().map(|r| r.frequency_hz).collect()).unwrap_or_default();
-    if let Some(m) = localisation
-        .residual_modes
-        .iter()
-        .find(|m| existing.iter().all(|f| (m.frequency_hz / f - 1.0).abs() > 0.1))
-    {
-        let bounds = |f: f64| {
-            vec![
-                (ParamId::ExtraModeFrequency, (0.5 * f, 2.0 * f)),
-                (ParamId::ExtraModeDamping, (0.0, 0.5)),
-                (ParamId::ExtraModeCoupling, (-0.5, 0.5)),
-                (
-                    ParamId::ExtraModeStiffnessCoupling,
-                    (-100.0 * s.servo_stiffness, 100.0 * s.servo_stiffness),
-                ),
-            ]
-        };
-        let damping = m.damping_ratio.clamp(0.005, 0.3);
+    let servo = model
+        .modal()
+        .ok()
+        .and_then(|rows| rows.into_iter().find(|r| r.kind == ModeKind::Servo))
+        .map(|r| r.frequency_hz);
+    for (f, zeta, (low, high)) in mode_seeds(servo, localisation) {
+        let damping = zeta.clamp(0.005, 0.15);
+        let bounds = vec![
+            (ParamId::ExtraModeFrequency, (low, high)),
+            (ParamId::ExtraModeDamping, (0.0, 0.2)),
+            (ParamId::ExtraModeCoupling, (-0.95 * s.inertia.sqrt(), 0.95 * s.inertia.sqrt())),
+            (ParamId::ExtraModeStiffnessCoupling, (-100.0 * s.servo_stiffness, 100.0 * s.servo_stiffness)),
+        ];
         out.push(trial(
             Effect::UnmodeledMode {
-                frequency_hz: m.frequency_hz,
+                frequency_hz: f,
                 damping_ratio: damping,
                 coupling: 0.02,
                 stiffness_coupling: None,
             },
-            "unmodeled_mode".into(),
-            bounds(m.frequency_hz)[..3].to_vec(),
+            format!("unmodeled_mode(inertia, {f:.2} Hz)"),
+            bounds[..3].to_vec(),
             vec![Strength::Nonzero(ParamId::ExtraModeCoupling)],
         ));
         out.push(trial(
             Effect::UnmodeledMode {
-                frequency_hz: m.frequency_hz,
+                frequency_hz: f,
                 damping_ratio: damping,
                 coupling: 0.0,
                 stiffness_coupling: Some(0.02 * s.servo_stiffness),
             },
-            "unmodeled_mode(stiffness)".into(),
-            bounds(m.frequency_hz),
+            format!("unmodeled_mode(stiffness, {f:.2} Hz)"),
+            bounds,
             vec![Strength::Nonzero(ParamId::ExtraModeStiffnessCoupling)],
         ));
     }
     out.retain(|t| !model.effects().iter().any(|e| e.kind() == t.kind && e.sensor() == t.sensor));
+    // A saturation already named may be its sibling: at the start of a decay both limits act
+    // alike, and only the rest of the model tells them apart. Offer the swap, from the limit
+    // that gives the same torque at rest (V = R_a·I).
+    let swap = |t: Trial, replaces: EffectKind| Trial {
+        label: format!("{} (in place of {})", t.label, replaces.name()),
+        replaces: Some(replaces),
+        ..t
+    };
+    for effect in model.effects().to_vec() {
+        let r = c.armature_resistance;
+        match effect {
+            Effect::VoltageSaturation { voltage_limit, sharp } => {
+                let mut t = out_of(&s, EffectKind::AmplifierSaturation);
+                t.effect = Effect::AmplifierSaturation { current_limit: voltage_limit / r, sharp };
+                out.push(swap(t, EffectKind::VoltageSaturation));
+            }
+            Effect::AmplifierSaturation { current_limit, sharp } => {
+                let mut t = out_of(&s, EffectKind::VoltageSaturation);
+                t.effect = Effect::VoltageSaturation { voltage_limit: current_limit * r, sharp };
+                out.push(swap(t, EffectKind::AmplifierSaturation));
+            }
+            _ => {}
+        }
+    }
     out
+}
+
+/// The catalog's saturation trial of `kind` (amplifier current or voltage limit).
+fn out_of(s: &Scales, kind: EffectKind) -> Trial {
+    match kind {
+        EffectKind::VoltageSaturation => trial(
+            Effect::VoltageSaturation { voltage_limit: 0.5 * s.demand_voltage, sharp: false },
+            "voltage_saturation".into(),
+            vec![(ParamId::VoltageLimit, (0.01 * s.demand_voltage, 3.0 * s.demand_voltage))],
+            vec![Strength::Limit(ParamId::VoltageLimit, Demand::Voltage)],
+        )
+        .or_from(Effect::VoltageSaturation { voltage_limit: 0.9 * s.demand_voltage, sharp: false }),
+        _ => trial(
+            Effect::AmplifierSaturation { current_limit: 0.5 * s.demand_current, sharp: false },
+            "amplifier_saturation".into(),
+            vec![(ParamId::CurrentLimit, (0.01 * s.demand_current, 3.0 * s.demand_current))],
+            vec![Strength::Limit(ParamId::CurrentLimit, Demand::Current)],
+        )
+        .or_from(Effect::AmplifierSaturation { current_limit: 0.9 * s.demand_current, sharp: false }),
+    }
 }
 
 /// The parameters a trial frees besides the baseline's: the effect's own, except the mass
 /// coupling of a stiffness-coupled mode (held at 0).
 pub fn freed(trial: &Trial) -> Vec<ParamId> {
+    let stiffness_coupled = matches!(trial.effect, Effect::UnmodeledMode { stiffness_coupling: Some(_), .. });
     ParamId::of_effect(&trial.effect)
         .into_iter()
-        .filter(|id| !(trial.label.ends_with("(stiffness)") && *id == ParamId::ExtraModeCoupling))
+        .filter(|id| !(stiffness_coupled && *id == ParamId::ExtraModeCoupling))
         .collect()
+}
+
+/// Where an unmodeled mode may be: lightly damped physical modes of the baseline's residual and
+/// of the data itself, at most two, more than 25 % from the servo mode and 10 % from each other,
+/// with the frequency within a factor 2 of the seed and 25 % clear of the servo. A mode near a
+/// modelled flexible mode is allowed: coupled to the hub, a new mode and a modelled one beat
+/// (two peaks where the model has one), which no retuning of the modelled mode reproduces;
+/// near the servo, a heavily coupled "mode" would only reshape the servo's own response.
+fn mode_seeds(servo: Option<f64>, localisation: &Localisation) -> Vec<(f64, f64, (f64, f64))> {
+    let mut seeds: Vec<(f64, f64, (f64, f64))> = Vec::new();
+    for m in localisation.residual_modes.iter().chain(&localisation.data_modes) {
+        let f = m.frequency_hz;
+        let near_servo = servo.is_some_and(|s| (f / s - 1.0).abs() < 0.25);
+        if !(m.physical && m.damping_ratio < 0.2)
+            || near_servo
+            || seeds.iter().any(|s| (s.0 / f - 1.0).abs() < 0.1)
+        {
+            continue;
+        }
+        let (mut low, mut high) = (0.5 * f, 2.0 * f);
+        if let Some(s) = servo {
+            if s < f {
+                low = low.max(1.25 * s);
+            } else {
+                high = high.min(s / 1.25);
+            }
+        }
+        if low < f && f < high {
+            seeds.push((f, m.damping_ratio, (low, high)));
+        }
+        if seeds.len() == 2 {
+            break;
+        }
+    }
+    seeds
 }

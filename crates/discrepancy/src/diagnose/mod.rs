@@ -27,6 +27,7 @@ use crate::WorkflowError;
 use crate::localise::{Localisation, localise};
 use crate::quantization::{self, Lattice};
 use catalog::Trial;
+use evidence::NoiseModel;
 use mem::Measurement;
 use models::{FitOutcome, Model, align};
 use plant::{Effect, EffectKind, ParamId, Sensor, SlewingModel};
@@ -96,7 +97,7 @@ pub struct EffectParameter {
 }
 
 /// The evidence for one candidate, every figure a difference of the same log-likelihood
-/// ([`evidence`]) to the baseline's.
+/// ([`evidence`]) to the reference's (the baseline with the model's own parameters free).
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Evidence {
     /// In-sample log-likelihood gain (nats).
@@ -105,8 +106,6 @@ pub struct Evidence {
     pub delta_bic: f64,
     /// Held-out log-likelihood gain over both folds (nats), if scored.
     pub held_out: Option<f64>,
-    /// Held-out gain with the model's own linear parameters free in both fits, if scored.
-    pub beyond_mismatch: Option<f64>,
     /// The strength's distance from "no effect" in standard errors (smallest over its strength
     /// parameters).
     pub strength_z: f64,
@@ -132,9 +131,6 @@ pub enum Verdict {
     NotShortlisted,
     /// Fitted on half the record, it does not predict the other half better by the threshold.
     NotPredictive,
-    /// With the model's own parameters free, it adds less than the threshold: a parameter
-    /// mismatch explains the residual as well.
-    Mismatch,
     /// A lattice that is not there, or a step far below the noise.
     NoLattice,
     /// The refit failed (the message says why).
@@ -151,6 +147,8 @@ pub struct Candidate {
     pub sensor: Option<Sensor>,
     /// Catalog name with its target, e.g. `output_offset(theta)`.
     pub label: String,
+    /// The effect of the model it takes the place of, for a swap of siblings.
+    pub replaces: Option<EffectKind>,
     /// The effect's parameters.
     pub parameters: Vec<EffectParameter>,
     /// Its evidence.
@@ -171,20 +169,27 @@ pub struct Candidate {
 /// The answer of [`diagnose`].
 #[derive(Clone, Debug)]
 pub struct Diagnosis {
-    /// The baseline fit.
+    /// The baseline fit (the parameters the user freed).
     pub baseline: FitOutcome,
+    /// The reference: the baseline with the model's own parameters free too, what every
+    /// candidate is scored against.
+    pub reference: FitOutcome,
     /// Where it disagrees with the data.
     pub localisation: Localisation,
     /// What the baseline's residual holds beyond noise, and where.
     pub residual: ResidualStructure,
     /// The model's own parameters freed to tell a mismatch from a missing effect.
     pub mismatch_parameters: Vec<String>,
-    /// Held-out gain of freeing them alone (nats), if scored.
-    pub mismatch_gain: Option<f64>,
+    /// In-sample gain of freeing them (nats): the reference's log-likelihood less the baseline's.
+    pub mismatch_gain: f64,
+    /// The measurement model every candidate was scored under.
+    pub noise: NoiseModel,
     /// All candidates, named first, then by evidence.
     pub candidates: Vec<Candidate>,
     /// Index of the named candidate.
     pub chosen: Option<usize>,
+    /// The held-out gain an effect needed (nats).
+    pub threshold: f64,
 }
 
 impl Diagnosis {
@@ -196,13 +201,13 @@ impl Diagnosis {
     pub fn named(&self) -> Option<&Candidate> {
         self.chosen.map(|i| &self.candidates[i])
     }
-    /// The augmented model (the baseline's fitted model if none is named).
+    /// The augmented model (the reference's fitted model if none is named).
     pub fn augmented(&self) -> &SlewingModel {
-        self.named().and_then(|c| c.model.as_ref()).unwrap_or_else(|| slewing(&self.baseline.fitted))
+        self.named().and_then(|c| c.model.as_ref()).unwrap_or_else(|| slewing(&self.reference.fitted))
     }
-    /// The augmented model's error (the baseline's if none is named).
+    /// The augmented model's error (the reference's if none is named).
     pub fn augmented_error(&self) -> f64 {
-        self.named().and_then(|c| c.outcome.as_ref()).map_or(self.baseline_error(), last_error)
+        self.named().and_then(|c| c.outcome.as_ref()).map_or_else(|| last_error(&self.reference), last_error)
     }
     /// The baseline's error.
     pub fn baseline_error(&self) -> f64 {
@@ -213,6 +218,9 @@ impl Diagnosis {
 fn last_error(outcome: &FitOutcome) -> f64 {
     *outcome.report.error_history.last().expect("a history has its start")
 }
+
+/// Per-sample held-out log-likelihoods of one refit, or why it failed.
+type Scored = Result<Vec<f64>, WorkflowError>;
 
 /// Runs the workflow without progress reports.
 ///
@@ -244,11 +252,29 @@ pub fn diagnose_observed(
         _ => raw.clone(),
     };
     let folds = Folds::new(&data);
-    observer.progress("baseline", 0, 1);
+    observer.progress("baseline", 0, 2);
     let baseline = Fitted::full(&wrapped, &data, &options.free, 100)?;
-    observer.progress("baseline", 1, 1);
-    let localisation = localise(&data, &baseline.outcome);
-    let start = slewing(&baseline.outcome.fitted).clone();
+    observer.progress("baseline", 1, 2);
+    // The reference every candidate is scored against: the baseline with the model's own
+    // linear parameters free too, so that a mismatch is absorbed before any effect is tried.
+    let mismatch = run::mismatch_parameters(model, &options.free);
+    let from = Model::Slewing(run::with_mismatch_bounds(slewing(&baseline.outcome.fitted).clone()));
+    let all_free: Vec<String> = options.free.iter().chain(&mismatch).cloned().collect();
+    let trial_reference = Fitted::full(&from, &data, &all_free, 100)?;
+    // The mismatch parameters the data determine stay free; the others keep the model file's
+    // values (a flat direction, or one run to its bound, only misleads every refit after it),
+    // and the reference is refitted with the determined ones from the baseline.
+    let mismatch: Vec<String> =
+        mismatch.into_iter().filter(|name| run::determined(&trial_reference.outcome, name)).collect();
+    let reference_free: Vec<String> = options.free.iter().chain(&mismatch).cloned().collect();
+    let reference = if reference_free.len() == all_free.len() {
+        trial_reference
+    } else {
+        Fitted::full(&from, &data, &reference_free, 100)?
+    };
+    observer.progress("baseline", 2, 2);
+    let localisation = localise(&data, &reference.outcome);
+    let start = slewing(&reference.outcome.fitted).clone();
     let wanted = |kind: EffectKind| options.only.is_empty() || options.only.contains(&kind);
     let trials: Vec<Trial> =
         catalog::trials(&start, &localisation).into_iter().filter(|t| wanted(t.kind)).collect();
@@ -257,7 +283,7 @@ pub fn diagnose_observed(
     let fits: Vec<Result<Fitted, WorkflowError>> = trials
         .par_iter()
         .map(|trial| {
-            let result = run::fit_trial(&start, trial, &options.free, &data, None, 60);
+            let result = run::fit_trial(&start, trial, &reference_free, &data, None, 60);
             observer.progress(
                 "candidates",
                 done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
@@ -266,21 +292,34 @@ pub fn diagnose_observed(
             result
         })
         .collect();
+    // The measurement model: ρ per output from the best-fitting model's residual.
+    let best = fits
+        .iter()
+        .filter_map(|f| f.as_ref().ok())
+        .map(|f| &f.outcome)
+        .chain(std::iter::once(&reference.outcome))
+        .min_by(|a, b| last_error(a).total_cmp(&last_error(b)))
+        .expect("the reference is there");
+    let noise = NoiseModel::of(&best.first().residual());
+    let likelihoods = |outcome: &FitOutcome| noise.log_likelihoods(&outcome.first().residual(), None);
+    let reference_likelihoods = likelihoods(&reference.outcome);
+    let mismatch_gain = evidence::gain(&reference_likelihoods, &likelihoods(&baseline.outcome));
     let m = (data.n_samples() * data.n_outputs()) as f64;
     let mut candidates: Vec<Candidate> = trials
         .iter()
         .zip(fits)
         .map(|(trial, fit)| match fit {
             Ok(fit) => {
-                let in_sample = evidence::gain(&fit.likelihoods, &baseline.likelihoods);
+                let in_sample = evidence::gain(&likelihoods(&fit.outcome), &reference_likelihoods);
                 let parameters = run::effect_parameters(&fit.outcome, trial);
+                // A swap trades the replaced effect's parameters for its own.
+                let added = parameters.len() - usize::from(trial.replaces.is_some()).min(parameters.len());
                 let evidence = Evidence {
                     in_sample,
-                    delta_bic: -2.0 * in_sample + parameters.len() as f64 * m.ln(),
+                    delta_bic: -2.0 * in_sample + added as f64 * m.ln(),
                     held_out: None,
-                    beyond_mismatch: None,
                     strength_z: run::strength_z(&fit.outcome, trial),
-                    reduction: 1.0 - last_error(&fit.outcome) / last_error(&baseline.outcome),
+                    reduction: 1.0 - last_error(&fit.outcome) / last_error(&reference.outcome),
                     whiteness_p: run::whiteness(&fit.outcome),
                 };
                 let verdict = if evidence.delta_bic >= -options.bic_threshold {
@@ -294,6 +333,7 @@ pub fn diagnose_observed(
                     kind: trial.kind,
                     sensor: trial.sensor,
                     label: trial.label.clone(),
+                    replaces: trial.replaces,
                     parameters,
                     evidence,
                     lattice: None,
@@ -310,74 +350,53 @@ pub fn diagnose_observed(
         (0..candidates.len()).filter(|&i| candidates[i].verdict == Verdict::NotShortlisted).collect();
     order.sort_by(|&a, &b| candidates[a].evidence.delta_bic.total_cmp(&candidates[b].evidence.delta_bic));
     order.truncate(options.shortlist);
-    let mismatch = run::mismatch_parameters(&start, &options.free);
-    let mut mismatch_gain = None;
     if !order.is_empty() {
-        let jobs: Vec<(run::Job, usize)> = std::iter::once(run::Job::Baseline { extended: false })
-            .chain(std::iter::once(run::Job::Baseline { extended: true }))
-            .chain(order.iter().flat_map(|&i| {
-                [
-                    run::Job::Candidate { index: i, extended: false },
-                    run::Job::Candidate { index: i, extended: true },
-                ]
-            }))
-            .flat_map(|job| [0, 1].map(|fold| (job.clone(), fold)))
+        let jobs: Vec<(Option<usize>, usize)> = std::iter::once(None)
+            .chain(order.iter().map(|&i| Some(i)))
+            .flat_map(|job| [0, 1].map(|fold| (job, fold)))
             .collect();
         let total = jobs.len();
         let done = std::sync::atomic::AtomicUsize::new(0);
-        let scores: Vec<(run::Job, usize, Result<Vec<f64>, WorkflowError>)> = jobs
+        let scores: Vec<(Option<usize>, Scored)> = jobs
             .into_par_iter()
             .map(|(job, fold)| {
-                let result = run::held_out(
-                    &job,
-                    fold,
-                    &folds,
-                    &trials,
-                    &candidates,
-                    &start,
-                    options,
-                    &mismatch,
-                    &data,
-                );
+                let from = match job {
+                    None => run::HeldOut::Reference(&start),
+                    Some(i) => run::HeldOut::Candidate(&trials[i], candidates[i].model.as_ref()),
+                };
+                let test = &folds.weights[1 - fold];
+                let result = run::held_out(from, fold, &folds, &reference_free, &data)
+                    .map(|residual| noise.log_likelihoods(&residual, Some(test)));
                 observer.progress(
                     "held-out",
                     done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
                     total,
                 );
-                (job, fold, result)
+                (job, result)
             })
             .collect();
-        let sum = |wanted: &run::Job| -> Option<Vec<f64>> {
+        let sum = |wanted: Option<usize>| -> Option<Vec<f64>> {
             let parts: Vec<&Vec<f64>> = scores
                 .iter()
-                .filter(|(job, _, _)| job == wanted)
-                .map(|(_, _, r)| r.as_ref().ok())
+                .filter(|(job, _)| *job == wanted)
+                .map(|(_, r)| r.as_ref().ok())
                 .collect::<Option<Vec<_>>>()?;
             (parts.len() == 2).then(|| parts[0].iter().zip(parts[1]).map(|(a, b)| a + b).collect())
         };
-        let base = sum(&run::Job::Baseline { extended: false });
-        let base_extended = sum(&run::Job::Baseline { extended: true });
-        if let (Some(b), Some(e)) = (&base, &base_extended) {
-            mismatch_gain = Some(evidence::gain(e, b));
-        }
+        let base = sum(None);
         for &i in &order {
-            let plain = sum(&run::Job::Candidate { index: i, extended: false });
-            let extended = sum(&run::Job::Candidate { index: i, extended: true });
             let c = &mut candidates[i];
-            c.evidence.held_out = plain.as_ref().zip(base.as_ref()).map(|(c, b)| evidence::gain(c, b));
-            c.evidence.beyond_mismatch =
-                extended.as_ref().zip(base_extended.as_ref()).map(|(c, b)| evidence::gain(c, b));
-            c.verdict = match (c.evidence.held_out, c.evidence.beyond_mismatch) {
-                (None, _) | (_, None) => Verdict::Failed("a held-out refit failed".into()),
-                (Some(h), _) if h < options.threshold => Verdict::NotPredictive,
-                (_, Some(x)) if x < options.threshold => Verdict::Mismatch,
+            c.evidence.held_out = sum(Some(i)).as_ref().zip(base.as_ref()).map(|(c, b)| evidence::gain(c, b));
+            c.verdict = match c.evidence.held_out {
+                None => Verdict::Failed("a held-out refit failed".into()),
+                Some(h) if h < options.threshold => Verdict::NotPredictive,
                 _ => Verdict::Outscored,
             };
         }
     }
     // Quantization: a lattice in the raw readings.
     if wanted(EffectKind::SensorQuantization) {
-        candidates.extend(quantization_candidates(&start, &raw, &baseline.outcome, options)?);
+        candidates.extend(quantization_candidates(&start, &raw, &reference, &reference_free, options)?);
     }
     let chosen = choose(&candidates);
     if let Some(i) = chosen {
@@ -387,21 +406,24 @@ pub fn diagnose_observed(
     let mut indexed: Vec<(usize, Candidate)> = candidates.into_iter().enumerate().collect();
     indexed.sort_by(|(i, a), (j, b)| {
         (Some(*j) == chosen).cmp(&(Some(*i) == chosen)).then_with(|| {
-            let key = |c: &Candidate| c.evidence.beyond_mismatch.unwrap_or(f64::NEG_INFINITY);
+            let key = |c: &Candidate| c.evidence.held_out.unwrap_or(f64::NEG_INFINITY);
             key(b).total_cmp(&key(a)).then(a.evidence.delta_bic.total_cmp(&b.evidence.delta_bic))
         })
     });
     let chosen = chosen.map(|_| 0);
     let candidates: Vec<Candidate> = indexed.into_iter().map(|(_, c)| c).collect();
-    let residual = ResidualStructure::of(&baseline.outcome);
+    let residual = ResidualStructure::of(&reference.outcome);
     Ok(Diagnosis {
         baseline: baseline.outcome,
+        reference: reference.outcome,
         localisation,
         residual,
         mismatch_parameters: mismatch,
         mismatch_gain,
+        noise,
         candidates,
         chosen,
+        threshold: options.threshold,
     })
 }
 
@@ -423,7 +445,7 @@ fn choose(candidates: &[Candidate]) -> Option<usize> {
             .enumerate()
             .filter(|(_, c)| c.verdict == Verdict::Outscored && c.kind != EffectKind::SensorQuantization)
             .max_by(|(_, a), (_, b)| {
-                let key = |c: &Candidate| c.evidence.beyond_mismatch.unwrap_or(f64::NEG_INFINITY);
+                let key = |c: &Candidate| c.evidence.held_out.unwrap_or(f64::NEG_INFINITY);
                 key(a).total_cmp(&key(b))
             })
             .map(|(i, _)| i)
@@ -438,9 +460,11 @@ const LATTICE_Z: f64 = 8.0;
 fn quantization_candidates(
     start: &SlewingModel,
     raw: &Measurement,
-    baseline: &FitOutcome,
+    reference: &Fitted,
+    free: &[String],
     options: &DiagnoseOptions,
 ) -> Result<Vec<Candidate>, WorkflowError> {
+    let baseline = &reference.outcome;
     let response = Model::Slewing(slewing(&baseline.fitted).clone()).response(&[])?;
     let fitted = mem::sampled_response(response.as_ref(), raw, &[])?.outputs;
     let mut out = Vec::new();
@@ -458,6 +482,7 @@ fn quantization_candidates(
             kind: EffectKind::SensorQuantization,
             sensor: Some(*sensor),
             label,
+            replaces: None,
             parameters: vec![EffectParameter {
                 name: format!("quantization_step_{}", sensor.output_name()),
                 value: lattice.step,
@@ -476,11 +501,11 @@ fn quantization_candidates(
                 Some(r) if r > 1 => raw.decimate(r)?,
                 _ => raw.clone(),
             };
-            match run::refit(&Model::Slewing(model.clone()), &data, &options.free, None, 60) {
+            match run::refit(&Model::Slewing(model), &data, free, None, 60) {
                 Ok(outcome) => {
                     candidate.evidence.reduction = 1.0 - last_error(&outcome) / last_error(baseline);
                     candidate.evidence.whiteness_p = run::whiteness(&outcome);
-                    candidate.model = Some(model);
+                    candidate.model = Some(slewing(&outcome.fitted).clone());
                     candidate.outcome = Some(outcome);
                 }
                 Err(e) => candidate.verdict = Verdict::Failed(e.to_string()),
@@ -496,6 +521,7 @@ fn failed(trial: &Trial, why: String) -> Candidate {
         kind: trial.kind,
         sensor: trial.sensor,
         label: trial.label.clone(),
+        replaces: trial.replaces,
         parameters: Vec::new(),
         evidence: Evidence::default(),
         lattice: None,
@@ -532,10 +558,12 @@ pub struct DiagnosisReport<'a> {
     pub augmented_error: f64,
     /// The model's own parameters freed to tell a mismatch from a missing effect.
     pub mismatch_parameters: &'a [String],
-    /// Held-out gain of freeing them alone (nats).
-    pub mismatch_gain: Option<f64>,
+    /// In-sample gain of freeing them (nats).
+    pub mismatch_gain: f64,
     /// What the baseline's residual holds.
     pub residual: &'a ResidualStructure,
+    /// The measurement model every candidate was scored under.
+    pub noise: &'a NoiseModel,
     /// Every candidate with its evidence and verdict.
     pub candidates: &'a [Candidate],
     /// Where the baseline disagrees with the data.
@@ -547,7 +575,7 @@ impl Diagnosis {
     pub fn answer(&self) -> Vec<String> {
         match self.named() {
             Some(c) => {
-                let why = match (&c.lattice, c.evidence.beyond_mismatch) {
+                let why = match (&c.lattice, c.evidence.held_out) {
                     (Some(l), _) => format!(
                         "{}: the raw readings lie on a lattice of step {:.4e} ({}), {:.1}× the noise σ",
                         c.label,
@@ -561,30 +589,47 @@ impl Diagnosis {
                         l.step / l.noise.max(f64::MIN_POSITIVE)
                     ),
                     (None, Some(x)) => format!(
-                        "{}: fitted on alternate blocks it predicts the others better by {:.1} nats ({:.1} with the \
-                         model's own parameters free), ΔBIC {:.1}, strength {:.1} σ from none",
+                        "{}: fitted on alternate blocks it predicts the others better by {:.1} nats, ΔBIC {:.1}, \
+                         strength {:.1} σ from none (the model's own parameters {} refitted alongside)",
                         c.label,
-                        c.evidence.held_out.unwrap_or(f64::NAN),
                         x,
                         c.evidence.delta_bic,
-                        c.evidence.strength_z
+                        c.evidence.strength_z,
+                        self.mismatch_parameters.join(", ")
                     ),
                     (None, None) => c.label.clone(),
                 };
-                vec![why]
+                let mut out = vec![why];
+                // A rival within the threshold is not told apart by these data.
+                if let Some(x) = c.evidence.held_out {
+                    for r in self.candidates.iter().filter(|r| r.verdict == Verdict::Outscored) {
+                        if let Some(y) = r.evidence.held_out.filter(|y| x - y < self.threshold) {
+                            out.push(format!(
+                                "{} predicts within {:.1} nats of it: these data barely tell the two apart",
+                                r.label,
+                                x - y
+                            ));
+                        }
+                    }
+                }
+                out
             }
             None => {
                 let mut out = vec!["none: no candidate of the catalog earns its name".to_string()];
+                if self.mismatch_gain > 10.0 {
+                    out.push(format!(
+                        "refitting the model's own parameters ({}) gains {:.0} nats: a parameter mismatch, not a \
+                         missing effect",
+                        self.mismatch_parameters.join(", "),
+                        self.mismatch_gain
+                    ));
+                }
                 if let Some(best) = self.candidates.iter().find(|c| c.evidence.held_out.is_some()) {
                     out.push(format!(
                         "the strongest candidate, {}, was {}",
                         best.label,
                         match &best.verdict {
                             Verdict::NotPredictive => "not predictive on held-out blocks".to_string(),
-                            Verdict::Mismatch => format!(
-                                "matched by freeing the model's own parameters ({}): a parameter mismatch",
-                                self.mismatch_parameters.join(", ")
-                            ),
                             other => format!("{other:?}"),
                         }
                     ));
@@ -608,6 +653,7 @@ impl Diagnosis {
             mismatch_parameters: &self.mismatch_parameters,
             mismatch_gain: self.mismatch_gain,
             residual: &self.residual,
+            noise: &self.noise,
             candidates: &self.candidates,
             localisation: &self.localisation,
         }

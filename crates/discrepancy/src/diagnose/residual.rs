@@ -1,4 +1,5 @@
-//! What a fit's residual holds beyond noise, and where: the words of an honest "none".
+//! What a fit's residual holds beyond noise, and where: the words of an honest "none" (of the
+//! reference fit, the baseline with the model's own parameters refitted).
 //!
 //! Per output: whether the residual is white (Ljung–Box, lags 1–20, at the 1 % level), the
 //! frequency band that holds most of its power (periodogram, in octave bands from the

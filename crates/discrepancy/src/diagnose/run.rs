@@ -1,28 +1,28 @@
 //! The refits behind the evidence: a candidate's full refit, and the held-out refits of the
 //! baseline and the shortlist on each fold, with and without the model's own parameters free.
 
+use super::EffectParameter;
 use super::catalog::{Trial, freed};
-use super::evidence::{block_length, folds, log_likelihoods};
-use super::{Candidate, DiagnoseOptions, EffectParameter};
+use super::evidence::{block_length, folds};
 use crate::WorkflowError;
 use crate::stats::ljung_box;
+use faer::Mat;
+use faer::linalg::solvers::Solve;
 use mem::Measurement;
 use models::{FitOutcome, FitRequest, Model};
-use plant::{ParamId, SlewingModel};
+use plant::{Effect, ParamId, SlewingModel};
 
-/// The ODE tolerance of a diagnosis' refits: 10⁻⁷ of the states, far below the noise of any
-/// record, and half the work of the fitting default.
-const ODE_TOLERANCE: f64 = 1e-7;
+/// A refit stops when its next step would lower ‖Y_error‖² by less than this fraction: the
+/// log-likelihood is then within a hundredth of a nat of its optimum per thousand residuals.
+const COST_TOLERANCE: f64 = 1e-5;
 
 /// Iterations of a held-out refit, which starts from the full refit's values.
 const HELD_OUT_ITERATIONS: usize = 20;
 
-/// A fit and its per-output log-likelihoods on every sample.
+/// A fit on every sample.
 pub struct Fitted {
     /// The fit.
     pub outcome: FitOutcome,
-    /// Per output, the profiled AR(1) log-likelihood of its residual.
-    pub likelihoods: Vec<f64>,
 }
 
 impl Fitted {
@@ -33,15 +33,14 @@ impl Fitted {
         free: &[String],
         iterations: usize,
     ) -> Result<Self, WorkflowError> {
-        let outcome = refit(model, data, free, None, iterations)?;
-        let likelihoods = log_likelihoods(&outcome.first().residual(), None);
-        Ok(Self { outcome, likelihoods })
+        Ok(Self { outcome: refit(model, data, free, None, iterations)? })
     }
 }
 
 /// The two folds of a record: alternate blocks of about a second.
 pub struct Folds {
-    weights: [Vec<f64>; 2],
+    /// Sample weights of each fold (1 in it, 0 outside).
+    pub weights: [Vec<f64>; 2],
 }
 
 impl Folds {
@@ -58,37 +57,26 @@ pub(super) fn refit(
     sample_weights: Option<&[f64]>,
     iterations: usize,
 ) -> Result<FitOutcome, WorkflowError> {
-    let t0 = std::time::Instant::now();
     let refs: Vec<&str> = free.iter().map(|s| s.as_str()).collect();
     let mut request = FitRequest::new(&refs);
     request.max_iterations = iterations;
     request.derivative_check = mem::DerivativeCheck::Skip;
-    request.ode_tolerance = Some(ODE_TOLERANCE);
+    request.integrator = models::Integrator::Exponential { max_step: models::exponential::DEFAULT_MAX_STEP };
+    request.cost_tolerance = Some(COST_TOLERANCE);
     if let Some(w) = sample_weights {
         request.sample_weights = vec![w.to_vec()];
     }
     let r = models::fit(model, data, &request);
-    if std::env::var("MEMID_DEBUG").is_ok() {
-        let effects: Vec<String> = model
-            .as_slewing()
-            .map(|m| m.effects().iter().map(|e| e.kind().name().to_string()).collect())
-            .unwrap_or_default();
-        eprintln!(
-            "fit {:?} free {:?} weights {} -> {:.2}s iters {:?}",
-            effects,
-            free,
-            sample_weights.is_some(),
-            t0.elapsed().as_secs_f64(),
-            r.as_ref().map(|o| o.report.iterations).map_err(|e| e.to_string())
-        );
-    }
     Ok(r?)
 }
 
 /// The model of a trial: `start` with the effect and its bounds.
-fn with_effect(start: &SlewingModel, trial: &Trial) -> Result<SlewingModel, WorkflowError> {
+fn with_effect(start: &SlewingModel, trial: &Trial, effect: &Effect) -> Result<SlewingModel, WorkflowError> {
     let mut model = start.clone();
-    model.add_effect(trial.effect.clone())?;
+    if let Some(kind) = trial.replaces {
+        model.remove_effect(kind, None)?;
+    }
+    model.add_effect(effect.clone())?;
     for (id, b) in &trial.bounds {
         model.set_bounds(*id, *b);
     }
@@ -105,7 +93,8 @@ fn names(free: &[String], extra: impl IntoIterator<Item = String>) -> Vec<String
     out
 }
 
-/// Refits `start` with the trial's effect on every sample (or on the weighted ones).
+/// Refits `start` with the trial's effect on every sample (or on the weighted ones), from each
+/// of its starting values, and keeps the refit with the smallest error.
 pub fn fit_trial(
     start: &SlewingModel,
     trial: &Trial,
@@ -114,11 +103,22 @@ pub fn fit_trial(
     sample_weights: Option<&[f64]>,
     iterations: usize,
 ) -> Result<Fitted, WorkflowError> {
-    let model = with_effect(start, trial)?;
     let free = names(free, freed(trial).into_iter().map(|id| id.name()));
-    let outcome = refit(&Model::Slewing(model), data, &free, sample_weights, iterations)?;
-    let likelihoods = log_likelihoods(&outcome.first().residual(), None);
-    Ok(Fitted { outcome, likelihoods })
+    let mut best: Option<Result<FitOutcome, WorkflowError>> = None;
+    for effect in std::iter::once(&trial.effect).chain(&trial.alternatives) {
+        let attempt = with_effect(start, trial, effect)
+            .and_then(|model| refit(&Model::Slewing(model), data, &free, sample_weights, iterations));
+        best = Some(match (best, attempt) {
+            (None, a) | (Some(Err(_)), a) => a,
+            (Some(Ok(b)), Ok(a)) => Ok(if last_error(&a) < last_error(&b) { a } else { b }),
+            (Some(Ok(b)), Err(_)) => Ok(b),
+        });
+    }
+    Ok(Fitted { outcome: best.expect("a trial has a start")? })
+}
+
+fn last_error(outcome: &FitOutcome) -> f64 {
+    *outcome.report.error_history.last().expect("a history has its start")
 }
 
 /// The effect's parameters as fitted.
@@ -139,22 +139,58 @@ pub fn effect_parameters(outcome: &FitOutcome, trial: &Trial) -> Vec<EffectParam
 
 /// The smallest distance of the effect's strength parameters from "no effect", in standard
 /// errors (0 where a standard error is not determined).
+///
+/// The standard error is conditional on the effect's shape parameters (a drag exponent, a
+/// friction's smoothing, an extra mode's frequency and damping): they are not identified when
+/// the effect is absent (Davies 1987), so the test of "no effect" holds them at their estimates,
+/// σ²_s|H = Σ_ss − Σ_sH Σ_HH⁻¹ Σ_Hs (a Schur complement of the fit's covariance; the model's own
+/// parameters stay free).
 pub fn strength_z(outcome: &FitOutcome, trial: &Trial) -> f64 {
     let model = outcome.fitted.as_slewing().expect("diagnose fits slewing models");
+    let report = &outcome.report;
+    let cov = &report.statistics.covariance;
+    let index = |id: ParamId| report.names.iter().position(|n| *n == id.name());
+    let strength: Vec<ParamId> = trial.strength.iter().map(|s| s.id()).collect();
+    let shape: Vec<usize> = freed(trial)
+        .into_iter()
+        .filter(|id| !strength.contains(id))
+        .filter_map(index)
+        .filter(|&h| cov[(h, h)].is_finite() && cov[(h, h)] > 0.0)
+        .collect();
     trial
         .strength
         .iter()
         .map(|s| {
-            let name = s.id().name();
-            outcome.report.names.iter().position(|n| *n == name).map_or(0.0, |i| {
-                match outcome.report.std_error(i) {
-                    Some(se) if se > 0.0 => s.z(outcome.report.parameters[i], se, model),
-                    _ => 0.0,
-                }
+            index(s.id()).map_or(0.0, |i| match conditional_std_error(cov, i, &shape) {
+                Some(se) if se > 0.0 => s.z(report.parameters[i], se, model),
+                _ => 0.0,
             })
         })
         .fold(f64::INFINITY, f64::min)
         .min(1e6)
+}
+
+/// √(Σ_ii − Σ_iH Σ_HH⁻¹ Σ_Hi): parameter i's standard error with the parameters `held` fixed
+/// (None where Σ_ii is not determined; the plain standard error where Σ_HH is singular).
+fn conditional_std_error(cov: &Mat<f64>, i: usize, held: &[usize]) -> Option<f64> {
+    let var = cov[(i, i)];
+    if !var.is_finite() || var <= 0.0 {
+        return None;
+    }
+    let held: Vec<usize> = held.iter().copied().filter(|&h| h != i).collect();
+    if held.is_empty() {
+        return Some(var.sqrt());
+    }
+    let k = held.len();
+    let hh = Mat::<f64>::from_fn(k, k, |a, b| cov[(held[a], held[b])]);
+    let hi = Mat::<f64>::from_fn(k, 1, |a, _| cov[(held[a], i)]);
+    if (0..k).any(|a| !hi[(a, 0)].is_finite() || (0..k).any(|b| !hh[(a, b)].is_finite())) {
+        return Some(var.sqrt());
+    }
+    let x = hh.partial_piv_lu().solve(&hi);
+    let explained: f64 = (0..k).map(|a| hi[(a, 0)] * x[(a, 0)]).sum();
+    let conditional = var - explained;
+    if explained.is_finite() && conditional > 0.0 { Some(conditional.sqrt()) } else { Some(var.sqrt()) }
 }
 
 /// The smallest Ljung–Box p-value (lags 1–20) of the fit's residuals over the outputs.
@@ -166,14 +202,15 @@ pub fn whiteness(outcome: &FitOutcome) -> f64 {
 }
 
 /// The model's own linear parameters a mismatch would live in, that the user did not free:
-/// the modal damping of every flexible mode, the hub inertia and the beam's stiffness.
+/// the modal damping of every flexible mode, the hub and motor inertias, the beam's stiffness
+/// and its mass per length.
 pub fn mismatch_parameters(model: &SlewingModel, free: &[String]) -> Vec<String> {
     mismatch_ids(model).into_iter().map(|(id, _)| id.name()).filter(|n| !free.contains(n)).collect()
 }
 
 /// The mismatch parameters with the range a mismatch is looked for in: a fifth to five times a
-/// modal damping, half to twice the hub inertia, ±30 % of the beam's stiffness (wider ranges
-/// only let a refit wander into stiff, slow and implausible models).
+/// modal damping, half to twice the hub and motor inertias, ±30 % of the beam's stiffness and mass
+/// (wider ranges only let a refit wander into stiff, slow and implausible models).
 fn mismatch_ids(model: &SlewingModel) -> Vec<(ParamId, (f64, f64))> {
     let around = |id: ParamId, low: f64, high: f64| {
         let v = model.get(id);
@@ -181,80 +218,65 @@ fn mismatch_ids(model: &SlewingModel) -> Vec<(ParamId, (f64, f64))> {
     };
     (1..=model.n_modes())
         .map(|i| around(ParamId::ModalDamping(i), 0.2, 5.0))
-        .chain([around(ParamId::HubInertia, 0.5, 2.0), around(ParamId::EiOverRho, 0.7, 1.3)])
+        .chain([
+            around(ParamId::HubInertia, 0.5, 2.0),
+            around(ParamId::MotorInertia, 0.5, 2.0),
+            around(ParamId::EiOverRho, 0.7, 1.3),
+            around(ParamId::MassPerLength, 0.7, 1.3),
+        ])
         .collect()
 }
 
+/// Whether a fit determines parameter `name`: a standard error below half its value's size,
+/// and not at a bound.
+pub fn determined(outcome: &FitOutcome, name: &str) -> bool {
+    let r = &outcome.report;
+    r.names.iter().position(|n| n == name).is_some_and(|i| {
+        r.on_bound[i].is_none() && r.std_error(i).is_some_and(|se| se < 0.5 * r.parameters[i].abs())
+    })
+}
+
 /// `model` with the mismatch parameters' ranges.
-fn with_mismatch_bounds(mut model: SlewingModel) -> SlewingModel {
+pub fn with_mismatch_bounds(mut model: SlewingModel) -> SlewingModel {
     for (id, b) in mismatch_ids(&model) {
         model.set_bounds(id, b);
     }
     model
 }
 
-/// A held-out refit to run.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Job {
-    /// The baseline (with the mismatch parameters free if `extended`).
-    Baseline {
-        /// Mismatch parameters free.
-        extended: bool,
-    },
-    /// Candidate `index` (likewise).
-    Candidate {
-        /// Index into the candidates (and trials).
-        index: usize,
-        /// Mismatch parameters free.
-        extended: bool,
-    },
+/// What a held-out refit starts from.
+pub enum HeldOut<'a> {
+    /// The reference model.
+    Reference(&'a SlewingModel),
+    /// A trial, from its full refit if it has one.
+    Candidate(&'a Trial, Option<&'a SlewingModel>),
 }
 
-/// Fits a job on fold `fold` and returns the per-output log-likelihoods of its prediction of
-/// the other fold.
-#[allow(clippy::too_many_arguments)]
+/// Fits on fold `fold` (the reference's parameters `free`, and a candidate's own) and returns
+/// the residual of its prediction of every sample (the other fold's are scored).
 pub fn held_out(
-    job: &Job,
+    from: HeldOut<'_>,
     fold: usize,
     folds: &Folds,
-    trials: &[Trial],
-    candidates: &[Candidate],
-    start: &SlewingModel,
-    options: &DiagnoseOptions,
-    mismatch: &[String],
+    free: &[String],
     data: &Measurement,
-) -> Result<Vec<f64>, WorkflowError> {
+) -> Result<Mat<f64>, WorkflowError> {
     let train = &folds.weights[fold];
-    let test = &folds.weights[1 - fold];
-    let extra = |extended: bool| if extended { mismatch.to_vec() } else { Vec::new() };
-    let outcome = match job {
-        Job::Baseline { extended } => {
-            let free = names(&options.free, extra(*extended));
-            refit(
-                &Model::Slewing(with_mismatch_bounds(start.clone())),
-                data,
-                &free,
-                Some(train),
-                HELD_OUT_ITERATIONS,
-            )?
+    let outcome = match from {
+        HeldOut::Reference(model) => {
+            refit(&Model::Slewing(model.clone()), data, free, Some(train), HELD_OUT_ITERATIONS)?
         }
-        Job::Candidate { index, extended } => {
-            let trial = &trials[*index];
-            // Start from the candidate's full refit (its effect in place, bounds kept).
-            let from = candidates[*index].model.as_ref().map_or_else(
-                || with_effect(start, trial),
-                |m| {
-                    let mut m = m.clone();
-                    for (id, b) in &trial.bounds {
-                        m.set_bounds(*id, *b);
-                    }
-                    Ok(m)
-                },
-            )?;
-            let free =
-                names(&options.free, freed(trial).into_iter().map(|id| id.name()).chain(extra(*extended)));
-            refit(&Model::Slewing(with_mismatch_bounds(from)), data, &free, Some(train), HELD_OUT_ITERATIONS)?
+        HeldOut::Candidate(trial, fitted) => {
+            let mut model = match fitted {
+                Some(m) => m.clone(),
+                None => return Err(WorkflowError::Unscored(trial.label.clone())),
+            };
+            for (id, b) in &trial.bounds {
+                model.set_bounds(*id, *b);
+            }
+            let free = names(free, freed(trial).into_iter().map(|id| id.name()));
+            refit(&Model::Slewing(model), data, &free, Some(train), HELD_OUT_ITERATIONS)?
         }
     };
-    Ok(log_likelihoods(&outcome.first().residual(), Some(test)))
+    Ok(outcome.first().residual())
 }

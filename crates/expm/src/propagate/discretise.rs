@@ -15,7 +15,7 @@
 use crate::fixed::Fixed;
 use crate::frechet::Frechet;
 use crate::square::Square;
-use crate::{ExpmError, Hold};
+use crate::{ExpmError, Hold, check};
 use faer::{Mat, MatRef};
 
 /// Input gains of one step: x_{k+1} = Φx_k + Γ_now u_k + Γ_next u_{k+1}.
@@ -188,4 +188,71 @@ pub(crate) fn advance(
         }
     }
     Ok(((0..n).map(|r| x[(r, 0)]).collect(), s))
+}
+
+/// One step of ẋ = A x + B u with u linear over the step, and its parameter derivatives:
+/// x(t + h) = Φ x(t) + Γ_now u(t) + Γ_next u(t + h) (first-order hold; Γ_now + Γ_next is the
+/// zero-order-hold gain ∫₀ʰ e^{Aσ}dσ B). For exponential integrators of ẋ = A x + B τ(x), which
+/// treat the nonlinear forcing τ as such an input over a step.
+#[derive(Clone, Debug)]
+pub struct StepGains {
+    /// Φ = e^{Ah} (N × N).
+    pub phi: Mat<f64>,
+    /// Γ_now (N × m).
+    pub now: Mat<f64>,
+    /// Γ_next (N × m).
+    pub next: Mat<f64>,
+    /// ∂Φ/∂P_i, one per parameter.
+    pub d_phi: Vec<Mat<f64>>,
+    /// ∂Γ_now/∂P_i.
+    pub d_now: Vec<Mat<f64>>,
+    /// ∂Γ_next/∂P_i.
+    pub d_next: Vec<Mat<f64>>,
+}
+
+/// [`StepGains`] at interval `h`, by one augmented exponential and its Fréchet derivatives in the
+/// directions h[[∂A/∂P_i, ∂B/∂P_i, 0], [0, 0, 0], [0, 0, 0]] (Van Loan 1978).
+///
+/// # Errors
+/// [`ExpmError`] for non-square, mismatched or non-finite matrices, or h not finite and > 0.
+pub fn step_gains(
+    a: MatRef<'_, f64>,
+    da: &[MatRef<'_, f64>],
+    b: MatRef<'_, f64>,
+    db: &[MatRef<'_, f64>],
+    h: f64,
+) -> Result<StepGains, ExpmError> {
+    let n = check::square("a", a)?;
+    if n == 0 {
+        return Err(ExpmError::Empty { name: "a" });
+    }
+    check::finite("a", a)?;
+    let m = b.ncols();
+    check::shape("b", b, n, m)?;
+    check::finite("b", b)?;
+    check::count("db", db.len(), da.len())?;
+    for d in da {
+        check::shape("da", *d, n, n)?;
+        check::finite("da", *d)?;
+    }
+    for d in db {
+        check::shape("db", *d, n, m)?;
+        check::finite("db", *d)?;
+    }
+    if !(h.is_finite() && h > 0.0) {
+        return Err(ExpmError::InvalidInterval { h });
+    }
+    let d = discretise(a, da, Some(InputMatrices { b, db, hold: Hold::FirstOrder }), h)?;
+    let gains = d.gains.expect("a hold gives gains");
+    let split = |stacked: &Mat<f64>, cols: usize| -> Vec<Mat<f64>> {
+        (0..da.len()).map(|i| stacked.as_ref().submatrix(i * n, 0, n, cols).to_owned()).collect()
+    };
+    Ok(StepGains {
+        d_phi: split(&d.psi, n),
+        d_now: split(&gains.d_now, m),
+        d_next: split(gains.d_next.as_ref().expect("first-order hold"), m),
+        phi: d.phi,
+        now: gains.now,
+        next: gains.next.expect("first-order hold"),
+    })
 }

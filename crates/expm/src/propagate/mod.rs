@@ -9,6 +9,7 @@
 mod discretise;
 mod recursion;
 
+pub use discretise::{StepGains, step_gains};
 pub use recursion::SensitivityPropagator;
 
 use crate::{ExpmError, check};

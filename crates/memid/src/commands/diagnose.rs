@@ -63,8 +63,8 @@ pub fn diagnosis_table(d: &Diagnosis) -> String {
         out += &format!("  - {f}\n");
     }
     out += &format!(
-        "\n{:<34} {:>9} {:>9} {:>9} {:>8}  {:<15} parameters\n",
-        "candidate", "ΔBIC", "held-out", "beyond", "z", "verdict"
+        "\n{:<34} {:>9} {:>9} {:>8}  {:<15} parameters\n",
+        "candidate", "ΔBIC", "held-out", "z", "verdict"
     );
     for c in &d.candidates {
         let params = c
@@ -81,11 +81,10 @@ pub fn diagnosis_table(d: &Diagnosis) -> String {
             other => format!("{other:?}"),
         };
         out += &format!(
-            "{:<34} {:>9.1} {:>9} {:>9} {:>8.1}  {:<15} {params}\n",
+            "{:<34} {:>9.1} {:>9} {:>8.1}  {:<15} {params}\n",
             c.label,
             c.evidence.delta_bic,
             number(c.evidence.held_out),
-            number(c.evidence.beyond_mismatch),
             c.evidence.strength_z,
             verdict
         );

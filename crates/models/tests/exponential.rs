@@ -1,0 +1,110 @@
+//! The exponential integrator against the adaptive solver, and its sensitivities against central
+//! differences of itself (they are the exact derivatives of its recursion).
+
+use expm::Response;
+use mem::{Grid, ResponseModel};
+use models::{ExponentialResponse, NonlinearResponse};
+use plant::SlewingModel;
+
+fn with_effects(effects: &str) -> SlewingModel {
+    let text = plant::PAPER_MODEL_RON
+        .replace("    bounds: {", &format!("    effects: [{effects}],\n    bounds: {{"));
+    SlewingModel::from_ron(&text, "effects.ron").unwrap()
+}
+
+/// Every nonlinear effect of the catalog, at strengths that visibly change the response, sharp
+/// friction included.
+const CASES: [(&str, &[&str]); 6] = [
+    ("AmplifierSaturation(current_limit: 1.2, sharp: false)", &["cv", "kp", "current_limit"]),
+    ("VoltageSaturation(voltage_limit: 2.5, sharp: false)", &["cv", "kp", "voltage_limit"]),
+    (
+        "CoulombFriction(torque: 0.004, smoothing_velocity: 0.0002)",
+        &["cv", "kp", "coulomb_torque", "hub_inertia"],
+    ),
+    ("QuadraticDrag(hub: 0.05, exponent: Some(1.6))", &["cv", "drag_hub", "drag_exponent", "ei_over_rho"]),
+    (
+        "CubicStiffness(coefficient: -0.2), TimeDelay(delay: 0.05)",
+        &["kp", "cubic_stiffness", "delay", "modal_damping_1"],
+    ),
+    (
+        "UnmodeledMode(frequency_hz: 0.8, damping_ratio: 0.02, coupling: 0.1), AmplifierSaturation(current_limit: 1.5, sharp: false)",
+        &["cv", "extra_mode_frequency", "extra_mode_coupling", "current_limit"],
+    ),
+];
+
+fn respond(model: &dyn ResponseModel, p: &[f64], k: usize, h: f64) -> Response {
+    let mut out = Response::zeros(k, 3, p.len());
+    model.respond(p, &Grid::free(h), &mut out).unwrap();
+    out
+}
+
+fn scale(m: &faer::Mat<f64>, col: impl Fn(usize) -> bool) -> f64 {
+    let mut worst = 0.0f64;
+    for c in 0..m.ncols() {
+        if col(c) {
+            for r in 0..m.nrows() {
+                worst = worst.max(m[(r, c)].abs());
+            }
+        }
+    }
+    worst
+}
+
+#[test]
+fn exponential_integrator_matches_the_adaptive_solver() {
+    let (k, h) = (3841, 1.0 / 128.0);
+    for (effects, names) in CASES {
+        let model = with_effects(effects);
+        let p: Vec<f64> = names.iter().map(|n| model.get(model.parameter(n).unwrap())).collect();
+        let exact = NonlinearResponse::new(model.clone(), names).unwrap().with_tolerances(1e-11, 1e-13);
+        let fast = ExponentialResponse::new(model, names).unwrap();
+        let (a, b) = (respond(&exact, &p, k, h), respond(&fast, &p, k, h));
+        for o in 0..3 {
+            let s = (0..k).map(|t| a.outputs[(t, o)].abs()).fold(0.0, f64::max);
+            let err = (0..k).map(|t| (a.outputs[(t, o)] - b.outputs[(t, o)]).abs()).fold(0.0, f64::max);
+            println!("{effects}: output {o} error {:.2e} of {s:.2e}", err / s);
+            assert!(err < 1e-5 * s, "{effects}: output {o}: {err:.3e} of {s:.3e}");
+        }
+        for i in 0..names.len() {
+            let s = (0..3 * k).map(|r| a.sensitivities[(r, i)].abs()).fold(0.0, f64::max);
+            let err = (0..3 * k)
+                .map(|r| (a.sensitivities[(r, i)] - b.sensitivities[(r, i)]).abs())
+                .fold(0.0, f64::max);
+            println!("{effects}: ∂/∂{} error {:.2e} of {s:.2e}", names[i], err / s);
+            assert!(err < 1e-3 * s, "{effects}: sensitivity {}: {err:.3e} of {s:.3e}", names[i]);
+        }
+    }
+}
+
+#[test]
+fn exponential_sensitivities_are_the_derivatives_of_its_recursion() {
+    let (k, h) = (300, 1.0 / 12.8);
+    for (effects, names) in CASES {
+        let model = with_effects(effects);
+        let p: Vec<f64> = names.iter().map(|n| model.get(model.parameter(n).unwrap())).collect();
+        let fast = ExponentialResponse::new(model, names).unwrap();
+        let base = respond(&fast, &p, k, h);
+        for i in 0..names.len() {
+            let step = STEP * p[i].abs().max(1e-3);
+            let shifted = |sign: f64| {
+                let mut q = p.clone();
+                q[i] += sign * step;
+                respond(&fast, &q, k, h).outputs
+            };
+            let (up, down) = (shifted(1.0), shifted(-1.0));
+            let s = scale(&base.sensitivities, |c| c == i);
+            let mut err = 0.0f64;
+            for t in 0..k {
+                for o in 0..3 {
+                    let fd = (up[(t, o)] - down[(t, o)]) / (2.0 * step);
+                    err = err.max((fd - base.sensitivities[(t * 3 + o, i)]).abs());
+                }
+            }
+            assert!(err < 1e-5 * s, "{effects}: ∂/∂{}: {err:.3e} of {s:.3e}", names[i]);
+        }
+    }
+}
+
+/// Relative step of the central differences: 10⁻⁵ balances their truncation error against the
+/// rounding of 38 400 substeps (both near 10⁻⁶ of the sensitivity's scale).
+const STEP: f64 = 1e-5;
