@@ -111,17 +111,10 @@ pub fn identify(data: MatRef<'_, f64>, h: f64, order: usize) -> Result<EraResult
     let u = svd.U().subcols(0, n);
     let v = svd.V().subcols(0, n);
     let root: Vec<f64> = sv[..n].iter().map(|s| s.sqrt()).collect();
-    let a_d = Mat::from_fn(n, n, |i, j| {
-        let mut acc = 0.0;
-        for a in 0..r_rows * p {
-            let mut row = 0.0;
-            for b in 0..s_cols {
-                row += h1[(a, b)] * v[(b, j)];
-            }
-            acc += u[(a, i)] * row;
-        }
-        acc / (root[i] * root[j])
-    });
+    // A = Σ^{-1/2} Uᵀ H(1) V Σ^{-1/2}: the products once, O(rows × cols × n).
+    let h1v = &h1 * v;
+    let projected = u.transpose() * &h1v;
+    let a_d = Mat::from_fn(n, n, |i, j| projected[(i, j)] / (root[i] * root[j]));
     let c_d = Mat::from_fn(p, n, |o, j| u[(o, j)] * root[j]);
     // Modal time histories: Σ^{1/2} Vᵀ, n × s.
     let controllability = Mat::from_fn(n, s_cols, |i, b| root[i] * v[(b, i)]);

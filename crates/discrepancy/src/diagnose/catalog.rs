@@ -303,6 +303,9 @@ pub fn freed(trial: &Trial) -> Vec<ParamId> {
         .collect()
 }
 
+/// Cycles an unmodeled mode must complete within the record.
+const MIN_CYCLES: f64 = 3.0;
+
 /// Where an unmodeled mode may be: lightly damped physical modes of the baseline's residual and
 /// of the data itself, at most two, more than 25 % from the servo mode and 10 % from each other,
 /// with the frequency within a factor 2 of the seed and 25 % clear of the servo. A mode near a
@@ -310,6 +313,7 @@ pub fn freed(trial: &Trial) -> Vec<ParamId> {
 /// (two peaks where the model has one), which no retuning of the modelled mode reproduces;
 /// near the servo, a heavily coupled "mode" would only reshape the servo's own response.
 fn mode_seeds(servo: Option<f64>, localisation: &Localisation) -> Vec<(f64, f64, (f64, f64))> {
+    let record = localisation.windows.last().map_or(f64::INFINITY, |w| w.1);
     let mut seeds: Vec<(f64, f64, (f64, f64))> = Vec::new();
     for m in localisation.residual_modes.iter().chain(&localisation.data_modes) {
         let f = m.frequency_hz;
@@ -320,7 +324,9 @@ fn mode_seeds(servo: Option<f64>, localisation: &Localisation) -> Vec<(f64, f64,
         {
             continue;
         }
+        // A mode needs three cycles in the record to be told from a trend.
         let (mut low, mut high) = (0.5 * f, 2.0 * f);
+        low = low.max(MIN_CYCLES / record);
         if let Some(s) = servo {
             if s < f {
                 low = low.max(1.25 * s);

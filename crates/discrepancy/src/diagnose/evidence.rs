@@ -97,6 +97,40 @@ pub fn gain(candidate: &[f64], baseline: &[f64]) -> f64 {
     candidate.iter().zip(baseline).map(|(c, b)| c - b).sum()
 }
 
+/// Lags of the autoregression that measures the structure left in a residual.
+const STRUCTURE_LAGS: usize = 20;
+
+/// The structure a residual still holds beyond the measurement model (nats): per output, the
+/// log-likelihood gain of an AR(20) least-squares predictor of e_k from its 20 predecessors over
+/// the noise model's own AR(1) prediction ρ_o e_{k−1}, less the 10 nats white noise gains by
+/// chance (half a χ² with 20 degrees of freedom), summed over the outputs and floored at 0. A
+/// misfit — smooth, an offset, a trend — is predictable from its past and scores high; noise
+/// that follows the measurement model scores about 0.
+pub fn structure(residual: &Mat<f64>, noise: &NoiseModel) -> f64 {
+    use faer::linalg::solvers::SolveLstsq;
+    let (k, p) = (residual.nrows(), residual.ncols());
+    if k <= 4 * STRUCTURE_LAGS {
+        return 0.0;
+    }
+    let rows = k - STRUCTURE_LAGS;
+    (0..p)
+        .map(|o| {
+            let rho = noise.rho.get(o).copied().unwrap_or(0.0);
+            let y = Mat::<f64>::from_fn(rows, 1, |r, _| residual[(r + STRUCTURE_LAGS, o)]);
+            let x =
+                Mat::<f64>::from_fn(rows, STRUCTURE_LAGS, |r, l| residual[(r + STRUCTURE_LAGS - 1 - l, o)]);
+            let beta = x.qr().solve_lstsq(&y);
+            let fit = &x * &beta;
+            let many: f64 = (0..rows).map(|r| (y[(r, 0)] - fit[(r, 0)]).powi(2)).sum();
+            let one: f64 = (0..rows).map(|r| (y[(r, 0)] - rho * x[(r, 0)]).powi(2)).sum();
+            if !(one > 0.0 && many > 0.0 && one.is_finite() && many.is_finite()) {
+                return 0.0;
+            }
+            (0.5 * rows as f64 * (one / many).ln() - 0.5 * STRUCTURE_LAGS as f64).max(0.0)
+        })
+        .sum()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -115,6 +149,32 @@ mod tests {
         use rand::{Rng, SeedableRng};
         let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
         (0..n).map(|_| sigma * rng.sample::<f64, _>(rand_distr::StandardNormal)).collect()
+    }
+
+    #[test]
+    fn structure_is_about_zero_for_noise_and_large_for_a_misfit() {
+        // White and AR(1) noise under their own measurement model: below chance (floored at 0)
+        // in most draws, a few nats at most.
+        let mut scores = Vec::new();
+        for seed in 0..20 {
+            let e = white(400, 0.1, seed);
+            let mut ar = vec![0.0; 400];
+            for k in 1..400 {
+                ar[k] = 0.8 * ar[k - 1] + e[k];
+            }
+            for series in [e, ar] {
+                let residual = Mat::from_fn(400, 1, |k, _| series[k]);
+                scores.push(structure(&residual, &NoiseModel::of(&residual)));
+            }
+        }
+        scores.sort_by(f64::total_cmp);
+        assert!(scores[scores.len() / 2] < 1.0 && scores[scores.len() - 1] < 15.0, "{scores:?}");
+        // A decaying oscillation of about the noise's RMS: predictable from its past.
+        let e = white(400, 0.1, 99);
+        let misfit =
+            Mat::from_fn(400, 1, |k, _| e[k] + 0.3 * (0.3 * k as f64).sin() * (-0.005 * k as f64).exp());
+        let noise = NoiseModel::of(&Mat::from_fn(400, 1, |k, _| e[k]));
+        assert!(structure(&misfit, &noise) > 50.0, "{}", structure(&misfit, &noise));
     }
 
     #[test]

@@ -202,14 +202,14 @@ pub fn whiteness(outcome: &FitOutcome) -> f64 {
 }
 
 /// The model's own linear parameters a mismatch would live in, that the user did not free:
-/// the modal damping of every flexible mode, the hub and motor inertias, the beam's stiffness
-/// and its mass per length.
+/// the modal damping of every flexible mode, the hub and motor inertias and the beam's
+/// stiffness (the mass per length is tried after them, [`secondary_mismatch_parameters`]).
 pub fn mismatch_parameters(model: &SlewingModel, free: &[String]) -> Vec<String> {
     mismatch_ids(model).into_iter().map(|(id, _)| id.name()).filter(|n| !free.contains(n)).collect()
 }
 
 /// The mismatch parameters with the range a mismatch is looked for in: a fifth to five times a
-/// modal damping, half to twice the hub and motor inertias, ±30 % of the beam's stiffness and mass
+/// modal damping, half to twice the hub and motor inertias, ±30 % of the beam's stiffness
 /// (wider ranges only let a refit wander into stiff, slow and implausible models).
 fn mismatch_ids(model: &SlewingModel) -> Vec<(ParamId, (f64, f64))> {
     let around = |id: ParamId, low: f64, high: f64| {
@@ -222,9 +222,21 @@ fn mismatch_ids(model: &SlewingModel) -> Vec<(ParamId, (f64, f64))> {
             around(ParamId::HubInertia, 0.5, 2.0),
             around(ParamId::MotorInertia, 0.5, 2.0),
             around(ParamId::EiOverRho, 0.7, 1.3),
-            around(ParamId::MassPerLength, 0.7, 1.3),
         ])
         .collect()
+}
+
+/// Mismatch parameters tried one at a time after the others, each kept only when the data
+/// determine it without unsettling those: the beam's mass per length (±30 %), which trades
+/// off against the hub and motor inertias in the rigid-body inertia.
+fn secondary_mismatch_ids(model: &SlewingModel) -> Vec<(ParamId, (f64, f64))> {
+    let v = model.get(ParamId::MassPerLength);
+    if v > 0.0 { vec![(ParamId::MassPerLength, (0.7 * v, 1.3 * v))] } else { Vec::new() }
+}
+
+/// The names of [`secondary_mismatch_ids`] the user did not free.
+pub fn secondary_mismatch_parameters(model: &SlewingModel, free: &[String]) -> Vec<String> {
+    secondary_mismatch_ids(model).into_iter().map(|(id, _)| id.name()).filter(|n| !free.contains(n)).collect()
 }
 
 /// Whether a fit determines parameter `name`: a standard error below half its value's size,
@@ -238,7 +250,7 @@ pub fn determined(outcome: &FitOutcome, name: &str) -> bool {
 
 /// `model` with the mismatch parameters' ranges.
 pub fn with_mismatch_bounds(mut model: SlewingModel) -> SlewingModel {
-    for (id, b) in mismatch_ids(&model) {
+    for (id, b) in mismatch_ids(&model).into_iter().chain(secondary_mismatch_ids(&model)) {
         model.set_bounds(id, b);
     }
     model

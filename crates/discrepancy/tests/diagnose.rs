@@ -1,0 +1,105 @@
+//! `diagnose` end to end through the library: a parameter mismatch is not a missing effect, a
+//! sensor effect is named on its sensor, and (ignored, long) the blind development set made by a
+//! simulator that shares no code with memid meets its rules.
+
+use discrepancy::{DiagnoseOptions, diagnose};
+use models::Model;
+use plant::SlewingModel;
+
+/// The paper's model file with `edit` applied to its text.
+fn edited(edit: impl Fn(String) -> String) -> SlewingModel {
+    SlewingModel::from_ron(&edit(plant::PAPER_MODEL_RON.to_string()), "truth.ron").unwrap()
+}
+
+/// 30 s at 12.8 Hz of `truth` with 1 % noise of each output's RMS.
+fn record(truth: &SlewingModel, seed: u64) -> mem::Measurement {
+    let response = Model::Slewing(truth.clone()).response(&[]).unwrap();
+    test_problems::simulate_measurement(response.as_ref(), &[], 1.0 / 12.8, 385, 0.01, seed)
+}
+
+fn options() -> DiagnoseOptions {
+    DiagnoseOptions::new(&["cv", "kp"])
+}
+
+#[test]
+fn a_damping_and_viscous_mismatch_is_not_a_missing_effect() {
+    // Truth: C_v 0.1 and the flexible modes' damping doubled; nothing else.
+    let truth = edited(|t| {
+        t.replace("viscous_damping: 0.0528", "viscous_damping: 0.1")
+            .replace("modal_damping: [0.5, 1.0, 1.0]", "modal_damping: [1.0, 2.0, 2.0]")
+    });
+    assert!(truth.constants().viscous_damping == 0.1, "the edit took");
+    let d = diagnose(&SlewingModel::paper(), &record(&truth, 3), &options()).unwrap();
+    assert_eq!(d.effect(), "none", "{:?}", d.answer());
+    assert!(
+        !d.mismatch_parameters.is_empty(),
+        "a damping mismatch is absorbed by the model's own parameters"
+    );
+    assert!(d.answer().iter().any(|s| s.starts_with("none")));
+}
+
+#[test]
+fn an_offset_is_named_on_its_sensor_and_the_gap_shrinks() {
+    let truth = edited(|t| {
+        t.replace(
+            "    bounds: {",
+            "    effects: [OutputOffset(sensor: Tachometer, offset: 0.01)],\n    bounds: {",
+        )
+    });
+    let d = diagnose(&SlewingModel::paper(), &record(&truth, 5), &options()).unwrap();
+    let named = d.named().expect("an offset of many noise sigma is named");
+    assert_eq!(named.label, "output_offset(theta_dot)", "{:?}", d.answer());
+    assert!(d.augmented_error() < 0.5 * d.baseline_error());
+    let offset = named.parameters.iter().find(|p| p.name == "offset_theta_dot").unwrap();
+    let se = offset.std_error.expect("determined");
+    assert!((offset.value - 0.01).abs() < 4.0 * se + 1e-4, "{} ± {se}", offset.value);
+}
+
+/// The blind development set (`../shared/blind-dev`, outside the repository; its README): the
+/// rules its scorer checks, through the library. Run with
+/// `cargo test --release -p discrepancy --test diagnose -- --ignored`.
+#[test]
+#[ignore = "needs ../shared/blind-dev and about three minutes in release mode"]
+fn blind_development_set_meets_its_rules() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/blind-dev");
+    let truth: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root.join("truth.json")).expect("../shared/blind-dev/truth.json is there"),
+    )
+    .unwrap();
+    let cases = truth["cases"].as_array().expect("a list of cases");
+    let (mut right, mut total) = (std::collections::BTreeMap::new(), std::collections::BTreeMap::new());
+    for case in cases {
+        let family = case["family"].as_str().unwrap().to_string();
+        let model_path = root.join(case["model"].as_str().unwrap());
+        let model =
+            SlewingModel::from_ron(&std::fs::read_to_string(&model_path).unwrap(), "case.ron").unwrap();
+        let data = mem::Measurement::read_csv(&root.join(case["data"].as_str().unwrap())).unwrap();
+        let free: Vec<&str> = case["free"].as_str().unwrap().split(',').collect();
+        let mut options = DiagnoseOptions::new(&free);
+        let args: Vec<&str> =
+            case["args"].as_array().map_or(Vec::new(), |a| a.iter().filter_map(|v| v.as_str()).collect());
+        if let Some(i) = args.iter().position(|a| *a == "--decimate") {
+            options.decimate = Some(args[i + 1].parse().unwrap());
+        }
+        let d = diagnose(&model, &data, &options).unwrap();
+        let accept: Vec<&str> =
+            case["accept"].as_array().unwrap().iter().filter_map(|v| v.as_str()).collect();
+        // As the set's scorer: a sensor effect of catalog physics must name the right sensor.
+        let sensors: Vec<&str> = case["truth"]["effects"]
+            .as_array()
+            .map_or(Vec::new(), |e| e.iter().filter_map(|e| e["sensor"].as_str()).collect());
+        let label = d.named().map_or("", |c| c.label.as_str());
+        let sensor_ok = !(family == "A" && ["sensor_quantization", "output_offset"].contains(&d.effect()))
+            || sensors.is_empty()
+            || sensors.iter().any(|s| label.contains(&format!("({s})")));
+        let ok = accept.contains(&d.effect()) && sensor_ok;
+        *right.entry(family.clone()).or_insert(0) += usize::from(ok);
+        *total.entry(family).or_insert(0) += 1;
+    }
+    let share =
+        |f: &str| right.get(f).copied().unwrap_or(0) as f64 / total.get(f).copied().unwrap_or(1) as f64;
+    let wrong = |f: &str| total.get(f).copied().unwrap_or(0) - right.get(f).copied().unwrap_or(0);
+    assert!(share("A") >= 0.8, "A {right:?} of {total:?}");
+    assert!(wrong("B") <= 1, "B {right:?} of {total:?}");
+    assert!(wrong("C") <= 2, "C {right:?} of {total:?}");
+}
