@@ -86,6 +86,33 @@ fn bench_iteration(c: &mut Criterion) {
     group.finish();
 }
 
+/// A forced iteration against a free-decay one of the same size: the same modal family, driven
+/// by a random force under a zero-order hold (issue 16: ≤ 1.5× the free iteration).
+fn bench_forced_iteration(c: &mut Criterion) {
+    let mut group = c.benchmark_group("forced_vs_free");
+    for size in &SIZES[..2] {
+        let fam = family(*size);
+        let free = mem::LinearResponse(fam.clone());
+        let forced = mem::LinearResponse(test_problems::ForcedFamily(fam.clone()));
+        let truth: Vec<f64> = fam.p_nominal.iter().map(|v| v * 1.03).collect();
+        let free_data = test_problems::simulate_measurement(&free, &truth, 1.0 / 12.8, size.samples, 0.01, 1);
+        let forced_data = test_problems::simulate_forced(&forced, &truth, 1.0 / 12.8, size.samples, 0.01, 1);
+        let free_problem =
+            mem::Problem::unnamed(vec![mem::Experiment::normalized(&free, &free_data)], &fam.p_nominal)
+                .unwrap();
+        let forced_problem =
+            mem::Problem::unnamed(vec![mem::Experiment::normalized(&forced, &forced_data)], &fam.p_nominal)
+                .unwrap();
+        group.bench_function(BenchmarkId::new("free", size.name), |b| {
+            b.iter(|| mem::gauss_newton_step(black_box(&free_problem), &fam.p_nominal, 1e-10).unwrap())
+        });
+        group.bench_function(BenchmarkId::new("forced", size.name), |b| {
+            b.iter(|| mem::gauss_newton_step(black_box(&forced_problem), &fam.p_nominal, 1e-10).unwrap())
+        });
+    }
+    group.finish();
+}
+
 fn bench_paper_fit(c: &mut Criterion) {
     let problem = memid_benches::paper_fit();
     let experiments =
@@ -94,5 +121,13 @@ fn bench_paper_fit(c: &mut Criterion) {
     c.bench_function("fit/paper", |b| b.iter(|| mem::Fit::new().run(black_box(&experiments)).unwrap()));
 }
 
-criterion_group!(benches, bench_expm, bench_frechet, bench_propagator, bench_iteration, bench_paper_fit);
+criterion_group!(
+    benches,
+    bench_expm,
+    bench_frechet,
+    bench_propagator,
+    bench_iteration,
+    bench_forced_iteration,
+    bench_paper_fit
+);
 criterion_main!(benches);

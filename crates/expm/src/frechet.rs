@@ -169,6 +169,72 @@ impl ExpmFrechet {
     }
 }
 
+/// The Fréchet derivative's answer is not meaningful to working precision: the relative
+/// condition number κ_exp(A) = ‖L(A)‖_F ‖A‖_F / ‖e^A‖_F is so large that κ·u exceeds the
+/// accuracy a caller can use ([`ExpmFrechet::ill_conditioned`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IllConditioned {
+    /// The estimate of κ_exp(A) (power method on L(A)*L(A), a lower bound within a small factor).
+    pub condition: f64,
+    /// κ·u: the relative error any backward-stable method may commit (u = 2⁻⁵³).
+    pub error_bound: f64,
+}
+
+impl std::fmt::Display for IllConditioned {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the exponential is ill-conditioned (κ ≈ {:.1e}): its value and derivatives may carry a relative \
+             error up to {:.1e}",
+            self.condition, self.error_bound
+        )
+    }
+}
+
+impl ExpmFrechet {
+    /// An estimate of the relative condition number κ_exp(A) = ‖L(A)‖ ‖A‖/‖e^A‖ in the
+    /// Frobenius norm (Higham, *Functions of Matrices*, §3.4): ‖L(A)‖ by `iterations` steps of the
+    /// power method on L(A)*L(A), whose adjoint is L(Aᵀ, ·), from a fixed start.
+    ///
+    /// # Errors
+    /// As [`ExpmFrechet::new`] for Aᵀ and [`ExpmFrechet::derivative`].
+    pub fn condition(&self, a: MatRef<'_, f64>, iterations: usize) -> Result<f64, ExpmError> {
+        check::shape("a", a, self.n, self.n)?;
+        let adjoint = ExpmFrechet::new(a.transpose())?;
+        let n = self.n;
+        // A fixed, dense start (no randomness: the same answer on every run).
+        let mut e = Mat::<f64>::from_fn(n, n, |i, j| 1.0 + 0.5 * ((3 * i + 7 * j) % 5) as f64);
+        let mut gain = 0.0;
+        for _ in 0..iterations.max(1) {
+            let size = e.norm_l2();
+            if size.is_nan() || size <= 0.0 {
+                break;
+            }
+            e *= faer::Scale(1.0 / size);
+            let l = self.derivative(e.as_ref())?;
+            gain = l.norm_l2();
+            e = adjoint.derivative(l.as_ref())?;
+        }
+        let exp = self.exp().norm_l2();
+        Ok(if exp > 0.0 { gain * a.norm_l2() / exp } else { f64::INFINITY })
+    }
+
+    /// Whether κ_exp(A)·u exceeds `tolerance` (e.g. 1e-6): then the answer is not meaningful
+    /// to that relative accuracy, and the caller should say so rather than use it silently.
+    ///
+    /// # Errors
+    /// As [`Self::condition`].
+    pub fn ill_conditioned(
+        &self,
+        a: MatRef<'_, f64>,
+        tolerance: f64,
+    ) -> Result<Option<IllConditioned>, ExpmError> {
+        let condition = self.condition(a, 4)?;
+        let error_bound = condition * f64::EPSILON / 2.0;
+        Ok((error_bound > tolerance).then_some(IllConditioned { condition, error_bound }))
+    }
+}
+
 /// (e^A, L(A, E)): the exponential and its Fréchet derivative in direction E.
 ///
 /// # Errors

@@ -13,6 +13,10 @@
 //!   (Al-Mohy & Higham 2009b, Algorithm 6.4).  It costs about 3× the flops of e^A per direction,
 //!   instead of 8× for the exponential of the 2N×2N block [[A, E], [0, A]]; several directions
 //!   share the powers, the LU factors of the Padé denominator and the squares.
+//! * **κ_exp(A)** ([`ExpmFrechet::condition`], [`ExpmFrechet::ill_conditioned`]): the relative
+//!   condition number ‖L(A)‖‖A‖/‖e^A‖ by the power method on L(A)*L(A) = L(Aᵀ, L(A, ·))
+//!   (Al-Mohy & Higham 2009b, §7); an answer with κ·u beyond the caller's tolerance is flagged
+//!   ([`IllConditioned`]) rather than returned silently.
 //! * **The MEM sensitivity propagator** ([`SensitivityPropagator`]).  Garcia & Inman (paper
 //!   Eq. 9) obtain the state sensitivities ∂x/∂P_i from
 //!
@@ -64,7 +68,7 @@ mod square;
 
 pub use error::ExpmError;
 pub use exponential::expm;
-pub use frechet::{ExpmFrechet, expm_frechet, expm_frechet_many};
+pub use frechet::{ExpmFrechet, IllConditioned, expm_frechet, expm_frechet_many};
 pub use norm::norm1;
 pub use propagate::{
     Forcing, Hold, MODAL_MIN_STATES, Method, Response, ResponseProblem, SensitivityPropagator, StepGains,

@@ -60,3 +60,23 @@ fn propagator_arguments_are_checked() {
     assert!(matches!(prop.propagate(&[1.0], None, 3), Err(ExpmError::ShapeMismatch { name: "x0", .. })));
     assert!(matches!(prop.propagate(&[1.0, f64::NAN], None, 3), Err(ExpmError::NonFinite { .. })));
 }
+
+/// κ_exp(A) is estimated, and an exponential whose answer cannot be trusted says so: for a
+/// diagonal A it matches the closed form; a strongly non-normal A = [[−1, b], [0, −1.0001]]
+/// with b = 1e10 has ‖L(A)‖ ≈ b·e^{-1}, so κ ≈ b² and κ·u ≫ 1e-6.
+#[test]
+fn ill_conditioned_exponentials_are_flagged() {
+    let calm = mat![[-1.0, 0.0], [0.0, -2.0]];
+    let work = expm::ExpmFrechet::new(calm.as_ref()).unwrap();
+    let kappa = work.condition(calm.as_ref(), 6).unwrap();
+    // For diagonal A, L(A, E)_ij = E_ij (e^{λi} − e^{λj})/(λi − λj) (e^{λi} for i = j): the largest
+    // gain is e^{-1}, so κ = e^{-1}·‖A‖_F/‖e^A‖_F.
+    let expected = (-1.0f64).exp() * 5f64.sqrt() / ((-2.0f64).exp() + (-4.0f64).exp()).sqrt();
+    assert!((kappa - expected).abs() < 1e-3 * expected, "{kappa} vs {expected}");
+    assert!(work.ill_conditioned(calm.as_ref(), 1e-6).unwrap().is_none());
+    let wild = mat![[-1.0, 1e10], [0.0, -1.0001]];
+    let work = expm::ExpmFrechet::new(wild.as_ref()).unwrap();
+    let flag = work.ill_conditioned(wild.as_ref(), 1e-6).unwrap().expect("flagged");
+    assert!(flag.condition > 1e9 && flag.error_bound > 1e-6, "{flag:?}");
+    assert!(flag.to_string().contains("ill-conditioned"));
+}

@@ -115,7 +115,14 @@ pub fn second_order<D: Scalar>(c: &Constants<D>) -> Result<SecondOrder<D>, Plant
     }
     if let Some(r) = layout.extra_mode {
         for e in &c.effects {
-            if let Effect::UnmodeledMode { frequency_hz, damping_ratio, coupling, stiffness_coupling } = e {
+            if let Effect::UnmodeledMode {
+                frequency_hz,
+                damping_ratio,
+                coupling,
+                stiffness_coupling,
+                damping_coupling,
+            } = e
+            {
                 let omega = *frequency_hz * D::from(2.0 * std::f64::consts::PI);
                 m[(0, r)] = *coupling;
                 m[(r, 0)] = *coupling;
@@ -125,6 +132,10 @@ pub fn second_order<D: Scalar>(c: &Constants<D>) -> Result<SecondOrder<D>, Plant
                 if let Some(kc) = stiffness_coupling {
                     k[(0, r)] = *kc;
                     k[(r, 0)] = *kc;
+                }
+                if let Some(dc) = damping_coupling {
+                    d[(0, r)] = *dc;
+                    d[(r, 0)] = *dc;
                 }
             }
         }

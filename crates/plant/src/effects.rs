@@ -13,7 +13,7 @@
 //! | `QuadraticDrag` | `drag_hub` \[N·m·(s/rad)ᵖ\], optional `drag_exponent` p | τ = −c_d \|θ̇\|ᵖ sign θ̇ (p = 2 unless given: air drag, the paper's ref. 10) |
 //! | `CubicStiffness` | `cubic_stiffness` \[N·m/rad³\] | τ = −k₃θ³ on the hub (hardening for k₃ > 0, softening for k₃ < 0) |
 //! | `TimeDelay` | `delay` \[s\] | feedback sees θ(t − τ), Padé(1,1): θ_d = −θ + w, ẇ = (2/τ)(2θ − w) |
-//! | `UnmodeledMode` | `extra_mode_frequency` \[Hz\], `extra_mode_damping`, `extra_mode_coupling` \[√kg·m\], optional `extra_mode_stiffness_coupling` \[N·m/√kg\] | a mass-normalised mode η: η̈ + 2ζωη̇ + ω²η coupled to the hub through M (and K) |
+//! | `UnmodeledMode` | `extra_mode_frequency` \[Hz\], `extra_mode_damping`, `extra_mode_coupling` \[√kg·m\], optional `extra_mode_stiffness_coupling` \[N·m/√kg\], optional `extra_mode_damping_coupling` \[N·m·s/√kg\] | a mass-normalised mode η: η̈ + 2ζωη̇ + ω²η coupled to the hub through M (and K, and D) |
 //! | `SensorQuantization` | — (measurement only) | y ← Δ·round(y/Δ) on one sensor |
 //! | `OutputOffset` | `offset_<output>` | y ← y + b on one sensor |
 //! | `SensorScale` | `scale_<output>` | y ← (1 + s)·y on one sensor (a calibration error) |
@@ -197,6 +197,10 @@ pub enum Effect<D = f64> {
         /// Coupling to the hub through the stiffness matrix \[N·m/√kg\] (absent: none).
         #[serde(default)]
         stiffness_coupling: Option<D>,
+        /// Coupling to the hub through the damping matrix \[N·m·s/√kg\] (absent: none): a
+        /// damper between the hub and the mode's coordinate.
+        #[serde(default)]
+        damping_coupling: Option<D>,
     },
 }
 
@@ -266,14 +270,19 @@ impl<D> Effect<D> {
             Effect::SensorScale { sensor, scale } => Effect::SensorScale { sensor: *sensor, scale: f(scale) },
             Effect::SensorDrift { sensor, rate } => Effect::SensorDrift { sensor: *sensor, rate: f(rate) },
             Effect::TimeDelay { delay } => Effect::TimeDelay { delay: f(delay) },
-            Effect::UnmodeledMode { frequency_hz, damping_ratio, coupling, stiffness_coupling } => {
-                Effect::UnmodeledMode {
-                    frequency_hz: f(frequency_hz),
-                    damping_ratio: f(damping_ratio),
-                    coupling: f(coupling),
-                    stiffness_coupling: stiffness_coupling.as_ref().map(&f),
-                }
-            }
+            Effect::UnmodeledMode {
+                frequency_hz,
+                damping_ratio,
+                coupling,
+                stiffness_coupling,
+                damping_coupling,
+            } => Effect::UnmodeledMode {
+                frequency_hz: f(frequency_hz),
+                damping_ratio: f(damping_ratio),
+                coupling: f(coupling),
+                stiffness_coupling: stiffness_coupling.as_ref().map(&f),
+                damping_coupling: damping_coupling.as_ref().map(&f),
+            },
         }
     }
 }

@@ -93,6 +93,8 @@ pub enum ParamId {
     CubicStiffness,
     /// `extra_mode_stiffness_coupling` of `UnmodeledMode` (when given).
     ExtraModeStiffnessCoupling,
+    /// `extra_mode_damping_coupling` of `UnmodeledMode` (when given).
+    ExtraModeDampingCoupling,
     /// `extra_mode_frequency` of `UnmodeledMode`.
     ExtraModeFrequency,
     /// `extra_mode_damping` of `UnmodeledMode`.
@@ -128,12 +130,13 @@ const CORE: [(&str, ParamId, &str); 13] = [
     ("amplifier_gain", ParamId::AmplifierGain, "motor.amplifier_gain"),
 ];
 
-const EFFECT_PARAMS: [(&str, ParamId, &str); 11] = [
+const EFFECT_PARAMS: [(&str, ParamId, &str); 12] = [
     ("current_limit", ParamId::CurrentLimit, "current_limit"),
     ("voltage_limit", ParamId::VoltageLimit, "voltage_limit"),
     ("drag_exponent", ParamId::DragExponent, "exponent"),
     ("cubic_stiffness", ParamId::CubicStiffness, "coefficient"),
     ("extra_mode_stiffness_coupling", ParamId::ExtraModeStiffnessCoupling, "stiffness_coupling"),
+    ("extra_mode_damping_coupling", ParamId::ExtraModeDampingCoupling, "damping_coupling"),
     ("coulomb_torque", ParamId::CoulombTorque, "torque"),
     ("drag_hub", ParamId::DragHub, "hub"),
     ("delay", ParamId::Delay, "delay"),
@@ -197,7 +200,8 @@ impl ParamId {
             | ParamId::Drift(_)
             | ParamId::CubicStiffness
             | ParamId::ExtraModeCoupling
-            | ParamId::ExtraModeStiffnessCoupling => SignRule::Any,
+            | ParamId::ExtraModeStiffnessCoupling
+            | ParamId::ExtraModeDampingCoupling => SignRule::Any,
             _ => SignRule::NonNegative,
         }
     }
@@ -251,11 +255,14 @@ impl ParamId {
             Effect::SensorScale { sensor, .. } => vec![ParamId::Scale(*sensor)],
             Effect::SensorDrift { sensor, .. } => vec![ParamId::Drift(*sensor)],
             Effect::TimeDelay { .. } => vec![ParamId::Delay],
-            Effect::UnmodeledMode { stiffness_coupling, .. } => {
+            Effect::UnmodeledMode { stiffness_coupling, damping_coupling, .. } => {
                 let mut ids =
                     vec![ParamId::ExtraModeFrequency, ParamId::ExtraModeDamping, ParamId::ExtraModeCoupling];
                 if stiffness_coupling.is_some() {
                     ids.push(ParamId::ExtraModeStiffnessCoupling);
+                }
+                if damping_coupling.is_some() {
+                    ids.push(ParamId::ExtraModeDampingCoupling);
                 }
                 ids
             }
@@ -315,6 +322,9 @@ macro_rules! effect_field {
                 Effect::UnmodeledMode { stiffness_coupling: Some(k), .. },
                 ParamId::ExtraModeStiffnessCoupling,
             ) => Some(k),
+            (Effect::UnmodeledMode { damping_coupling: Some(c), .. }, ParamId::ExtraModeDampingCoupling) => {
+                Some(c)
+            }
             (Effect::UnmodeledMode { frequency_hz, .. }, ParamId::ExtraModeFrequency) => Some(frequency_hz),
             (Effect::UnmodeledMode { damping_ratio, .. }, ParamId::ExtraModeDamping) => Some(damping_ratio),
             (Effect::UnmodeledMode { coupling, .. }, ParamId::ExtraModeCoupling) => Some(coupling),

@@ -165,6 +165,73 @@ impl mem::LinearModel for ModalFamily {
     }
 }
 
+/// [`ModalFamily`] driven by a force u on its first coordinate (B = e_{n+1}, one input), from
+/// the same x(0): the forced problem of the same size as the free one.
+#[derive(Clone, Debug)]
+pub struct ForcedFamily(pub ModalFamily);
+
+impl mem::LinearModel for ForcedFamily {
+    type Error = std::convert::Infallible;
+    fn n_states(&self) -> usize {
+        self.0.n_states()
+    }
+    fn n_params(&self) -> usize {
+        self.0.n_params()
+    }
+    fn output_names(&self) -> Vec<String> {
+        mem::LinearModel::output_names(&self.0)
+    }
+    fn input_names(&self) -> Vec<String> {
+        vec!["u".into()]
+    }
+    fn linearize(&self, p: &[f64]) -> Result<mem::Linearized, Self::Error> {
+        let mut lin = mem::LinearModel::linearize(&self.0, p)?;
+        let n = self.0.n_modes;
+        lin.b = Some(Mat::from_fn(2 * n, 1, |r, _| f64::from(u8::from(r == n))));
+        Ok(lin)
+    }
+}
+
+/// A record of `model` driven by a seeded random force (unit variance, zero-order hold) at
+/// P = `p`, with white noise of `noise_fraction` of each output's RMS: the outputs and the
+/// input column `u`.
+pub fn simulate_forced(
+    model: &dyn mem::ResponseModel,
+    p: &[f64],
+    h: f64,
+    n_samples: usize,
+    noise_fraction: f64,
+    seed: u64,
+) -> mem::Measurement {
+    let mut r = rng(seed);
+    let outputs = model.output_names();
+    let p_out = outputs.len();
+    let u: Vec<f64> = (0..n_samples).map(|_| r.sample::<f64, _>(StandardNormal)).collect();
+    let names: Vec<String> = outputs.iter().cloned().chain(["u".to_string()]).collect();
+    let with = |values: Mat<f64>| {
+        mem::Measurement::new(names.clone(), 0.0, h, values)
+            .and_then(|m| m.with_inputs(&["u"], mem::Hold::Zero))
+            .expect("finite simulated data")
+    };
+    let zeros = with(Mat::from_fn(n_samples, p_out + 1, |k, c| if c == p_out { u[k] } else { 0.0 }));
+    let clean = mem::sampled_response(model, &zeros, p).expect("the test model evaluates").outputs;
+    let noisy = with_noise(&clean, noise_fraction, &mut r);
+    with(Mat::from_fn(n_samples, p_out + 1, |k, c| if c == p_out { u[k] } else { noisy[(k, c)] }))
+}
+
+/// `clean` with white Gaussian noise of `fraction` × each column's RMS.
+fn with_noise(clean: &Mat<f64>, fraction: f64, r: &mut StdRng) -> Mat<f64> {
+    let (k, p) = (clean.nrows(), clean.ncols());
+    let mut values = clean.clone();
+    for o in 0..p {
+        let rms = ((0..k).map(|t| clean[(t, o)].powi(2)).sum::<f64>() / k as f64).sqrt();
+        for t in 0..k {
+            values[(t, o)] += fraction * rms * r.sample::<f64, _>(StandardNormal);
+        }
+    }
+    values
+}
+
 /// A two-mass spring chain (not the slewing plant): masses m₁ = 1, m₂ = 0.5, springs k₁ (to
 /// ground) and k₂ (between the masses), light damping c on each mass; P = [k₁, k₂, c];
 /// outputs: both displacements; starts from a deflection of the outer mass.
@@ -261,14 +328,7 @@ pub fn simulate_measurement(
     seed: u64,
 ) -> mem::Measurement {
     let clean = mem::Measurement::simulate(model, p, h, n_samples).expect("the test model evaluates");
-    let mut values = clean.values().clone();
-    let mut r = rng(seed);
-    for o in 0..values.ncols() {
-        let rms = ((0..n_samples).map(|k| values[(k, o)].powi(2)).sum::<f64>() / n_samples as f64).sqrt();
-        for k in 0..n_samples {
-            values[(k, o)] += noise_fraction * rms * r.sample::<f64, _>(StandardNormal);
-        }
-    }
+    let values = with_noise(clean.values(), noise_fraction, &mut rng(seed));
     mem::Measurement::new(model.output_names(), 0.0, h, values).expect("finite simulated data")
 }
 
@@ -387,15 +447,7 @@ impl mem::LinearModel for HandDerivedBuilding {
 
 /// Adds seeded white Gaussian noise of `fraction` × each output's RMS to a record.
 pub fn add_noise(data: &mem::Measurement, fraction: f64, seed: u64) -> mem::Measurement {
-    let mut r = rng(seed);
-    let k = data.n_samples();
-    let mut values = data.values().clone();
-    for o in 0..values.ncols() {
-        let rms = ((0..k).map(|t| values[(t, o)].powi(2)).sum::<f64>() / k as f64).sqrt();
-        for t in 0..k {
-            values[(t, o)] += fraction * rms * r.sample::<f64, _>(StandardNormal);
-        }
-    }
+    let values = with_noise(data.values(), fraction, &mut rng(seed));
     mem::Measurement::new(data.names().to_vec(), data.start(), data.interval(), values).expect("finite data")
 }
 

@@ -228,6 +228,7 @@ pub fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
                 damping_ratio: damping,
                 coupling: 0.02,
                 stiffness_coupling: None,
+                damping_coupling: None,
             },
             format!("unmodeled_mode(inertia, {f:.2} Hz)"),
             bounds[..3].to_vec(),
@@ -239,10 +240,31 @@ pub fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
                 damping_ratio: damping,
                 coupling: 0.0,
                 stiffness_coupling: Some(0.02 * s.servo_stiffness),
+                damping_coupling: None,
             },
             format!("unmodeled_mode(stiffness, {f:.2} Hz)"),
-            bounds,
+            bounds[..4].to_vec(),
             vec![Strength::Nonzero(ParamId::ExtraModeStiffnessCoupling)],
+        ));
+        // Through damping: a damper between the hub and the mode. The damping matrix stays
+        // positive semi-definite for c_d² ≤ d_hub·2ζω, d_hub = C_v + K_bK_t/R_a.
+        let d_hub = c.viscous_damping + c.back_emf_constant * c.torque_constant / c.armature_resistance;
+        let omega = 2.0 * std::f64::consts::PI * f;
+        let limit = (d_hub * 2.0 * 0.2 * 2.0 * std::f64::consts::PI * high).sqrt();
+        let mut bounds = bounds;
+        bounds.push((ParamId::ExtraModeDampingCoupling, (-limit, limit)));
+        bounds.remove(3);
+        out.push(trial(
+            Effect::UnmodeledMode {
+                frequency_hz: f,
+                damping_ratio: damping,
+                coupling: 0.0,
+                stiffness_coupling: None,
+                damping_coupling: Some(0.3 * (d_hub * 2.0 * damping * omega).sqrt()),
+            },
+            format!("unmodeled_mode(damping, {f:.2} Hz)"),
+            bounds,
+            vec![Strength::Nonzero(ParamId::ExtraModeDampingCoupling)],
         ));
     }
     out.retain(|t| !model.effects().iter().any(|e| e.kind() == t.kind && e.sensor() == t.sensor));
@@ -294,9 +316,13 @@ fn out_of(s: &Scales, kind: EffectKind) -> Trial {
 }
 
 /// The parameters a trial frees besides the baseline's: the effect's own, except the mass
-/// coupling of a stiffness-coupled mode (held at 0).
+/// coupling of a mode coupled through stiffness or damping (held at 0).
 pub fn freed(trial: &Trial) -> Vec<ParamId> {
-    let stiffness_coupled = matches!(trial.effect, Effect::UnmodeledMode { stiffness_coupling: Some(_), .. });
+    let stiffness_coupled = matches!(
+        trial.effect,
+        Effect::UnmodeledMode { stiffness_coupling: Some(_), .. }
+            | Effect::UnmodeledMode { damping_coupling: Some(_), .. }
+    );
     ParamId::of_effect(&trial.effect)
         .into_iter()
         .filter(|id| !(stiffness_coupled && *id == ParamId::ExtraModeCoupling))

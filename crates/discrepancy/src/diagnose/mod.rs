@@ -443,7 +443,7 @@ pub fn diagnose_observed(
     if wanted(EffectKind::SensorQuantization) {
         candidates.extend(quantization_candidates(&start, &raw, &reference, &reference_free, options)?);
     }
-    let chosen = choose(&candidates);
+    let chosen = choose(&candidates, options.threshold);
     if let Some(i) = chosen {
         candidates[i].verdict = Verdict::Named;
     }
@@ -474,7 +474,7 @@ pub fn diagnose_observed(
 
 /// The named candidate: a proven lattice that matters first (a measurement fact), else the
 /// candidate with the most held-out evidence beyond a mismatch among those that pass.
-fn choose(candidates: &[Candidate]) -> Option<usize> {
+fn choose(candidates: &[Candidate], threshold: f64) -> Option<usize> {
     let lattice = candidates
         .iter()
         .enumerate()
@@ -485,14 +485,19 @@ fn choose(candidates: &[Candidate]) -> Option<usize> {
         })
         .map(|(i, _)| i);
     lattice.or_else(|| {
-        candidates
+        let passing: Vec<(usize, &Candidate)> = candidates
             .iter()
             .enumerate()
             .filter(|(_, c)| c.verdict == Verdict::Outscored && c.kind != EffectKind::SensorQuantization)
-            .max_by(|(_, a), (_, b)| {
-                let key = |c: &Candidate| c.evidence.held_out.unwrap_or(f64::NEG_INFINITY);
-                key(a).total_cmp(&key(b))
-            })
+            .collect();
+        let held_out = |c: &Candidate| c.evidence.held_out.unwrap_or(f64::NEG_INFINITY);
+        let best = passing.iter().map(|(_, c)| held_out(c)).fold(f64::NEG_INFINITY, f64::max);
+        // Held-out gains closer than the threshold are not told apart; among those, the
+        // in-sample evidence with its parameter penalty (ΔBIC) decides.
+        passing
+            .into_iter()
+            .filter(|(_, c)| best - held_out(c) < threshold)
+            .min_by(|(_, a), (_, b)| a.evidence.delta_bic.total_cmp(&b.evidence.delta_bic))
             .map(|(i, _)| i)
     })
 }
@@ -648,11 +653,13 @@ impl Diagnosis {
                 // A rival within the threshold is not told apart by these data.
                 if let Some(x) = c.evidence.held_out {
                     for r in self.candidates.iter().filter(|r| r.verdict == Verdict::Outscored) {
-                        if let Some(y) = r.evidence.held_out.filter(|y| x - y < self.threshold) {
+                        if let Some(y) = r.evidence.held_out.filter(|y| (x - y).abs() < self.threshold) {
                             out.push(format!(
-                                "{} predicts within {:.1} nats of it: these data barely tell the two apart",
+                                "{} predicts within {:.1} nats of it (ΔBIC {:.1}): these data barely tell the two \
+                                 apart, and the smaller ΔBIC decided",
                                 r.label,
-                                x - y
+                                (x - y).abs(),
+                                r.evidence.delta_bic
                             ));
                         }
                     }

@@ -138,7 +138,8 @@ pub fn effect_parameters(outcome: &FitOutcome, trial: &Trial) -> Vec<EffectParam
 }
 
 /// The smallest distance of the effect's strength parameters from "no effect", in standard
-/// errors (0 where a standard error is not determined).
+/// errors (0 where a standard error is not determined, and for an unmodeled mode whose
+/// frequency ends on a bound of its range).
 ///
 /// The standard error is conditional on the effect's shape parameters (a drag exponent, a
 /// friction's smoothing, an extra mode's frequency and damping): they are not identified when
@@ -150,6 +151,11 @@ pub fn strength_z(outcome: &FitOutcome, trial: &Trial) -> f64 {
     let report = &outcome.report;
     let cov = &report.statistics.covariance;
     let index = |id: ParamId| report.names.iter().position(|n| *n == id.name());
+    // A mode is a resonance the data must locate: one whose frequency ends on a bound of its
+    // search range was not found there, whatever its coupling does.
+    if index(ParamId::ExtraModeFrequency).is_some_and(|i| report.on_bound[i].is_some()) {
+        return 0.0;
+    }
     let strength: Vec<ParamId> = trial.strength.iter().map(|s| s.id()).collect();
     let shape: Vec<usize> = freed(trial)
         .into_iter()
