@@ -89,11 +89,17 @@ pub fn identify(data: MatRef<'_, f64>, h: f64, order: usize) -> Result<EraResult
     if k_samples < needed {
         return Err(EraError::TooShort { samples: k_samples, order, needed });
     }
-    // Normalise each output by its RMS so that units do not weigh.
+    // Normalise each output by its RMS so that units do not weigh (computed on the output
+    // divided by its peak, so that data of any magnitude, 1e-300 or 1e300, neither underflow
+    // nor overflow when squared).
     let scale: Vec<f64> = (0..p)
         .map(|o| {
-            let ms = (0..k_samples).map(|k| data[(k, o)].powi(2)).sum::<f64>() / k_samples as f64;
-            if ms > 0.0 { ms.sqrt() } else { 1.0 }
+            let peak = (0..k_samples).map(|k| data[(k, o)].abs()).fold(0.0, f64::max);
+            if !(peak > 0.0 && peak.is_finite()) {
+                return 1.0;
+            }
+            let ms = (0..k_samples).map(|k| (data[(k, o)] / peak).powi(2)).sum::<f64>() / k_samples as f64;
+            peak * ms.sqrt()
         })
         .collect();
     let y = |k: usize, o: usize| data[(k, o)] / scale[o];

@@ -83,3 +83,20 @@ fn too_short_records_are_errors() {
     assert!(era::identify(data.as_ref(), 0.1, 4).is_err());
     assert!(era::identify(data.as_ref(), 0.1, 0).is_err());
 }
+
+/// The magnitude of the data does not matter: scaled by 1e-300 or 1e300 the same modes come out
+/// (the RMS normalisation once squared 1e-300 to zero and gave NaN consistencies).
+#[test]
+fn tiny_and_huge_data_give_the_same_modes() {
+    let (data, h) = two_mode_decay(0.0);
+    let reference = era::identify(data.as_ref(), h, 4).unwrap();
+    for factor in [1e-300, 1e300] {
+        let scaled = Mat::from_fn(data.nrows(), data.ncols(), |k, o| data[(k, o)] * factor);
+        let result = era::identify(scaled.as_ref(), h, 4).unwrap();
+        assert_eq!(result.modes.len(), reference.modes.len());
+        for (a, b) in result.modes.iter().zip(&reference.modes) {
+            assert!(a.consistency.is_finite() && a.damping_ratio.is_finite(), "{factor}: {a:?}");
+            assert!((a.frequency_hz / b.frequency_hz - 1.0).abs() < 1e-8, "{factor}: {a:?} vs {b:?}");
+        }
+    }
+}

@@ -42,9 +42,20 @@ enum Command {
 /// The short usage printed when no command is given.
 const USAGE: &str = "usage: memid <simulate|fit|modal|era|model|demo|diagnose> [options]; `memid --help` lists them, `memid <command> --help` explains one";
 
-/// One line for an error chain.
+/// One line for an error chain: each cause appended once (an error whose message already
+/// quotes its source is not followed by it again).
 fn one_line(e: &anyhow::Error) -> String {
-    format!("{e:#}").split_whitespace().collect::<Vec<_>>().join(" ")
+    let mut line = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if !line.contains(&text) {
+            if !line.is_empty() {
+                line.push_str(": ");
+            }
+            line.push_str(&text);
+        }
+    }
+    line.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
 fn main() -> ExitCode {
