@@ -187,6 +187,22 @@ fn a_closed_pipe_ends_quietly() {
 }
 
 #[test]
+fn a_dash_means_standard_output() {
+    let dir = scratch("dash");
+    let (_, _) = inputs(&dir);
+    for args in [
+        vec!["model", "--model", "m.ron", "-o", "-"],
+        vec!["simulate", "--model", "m.ron", "--duration", "1", "--rate", "10", "-o", "-"],
+        vec!["fit", "--model", "m.ron", "--data", "d.csv", "--free", "cv", "-o", "-", "--json", "out.json"],
+    ] {
+        let out = memid_in(&dir, &args);
+        assert!(out.status.success(), "{}: {}", args.join(" "), String::from_utf8_lossy(&out.stderr));
+        assert!(!out.stdout.is_empty(), "{}", args.join(" "));
+    }
+    assert!(!dir.join("-").exists(), "a file named `-` was written");
+}
+
+#[test]
 fn extreme_values_end_in_one_line_errors() {
     let dir = scratch("extreme");
     let (model, _) = inputs(&dir);
@@ -202,6 +218,26 @@ fn extreme_values_end_in_one_line_errors() {
     let friction = with_effect("friction.ron", "CoulombFriction(torque: 1e308)");
     let smooth = with_effect("smooth.ron", "CoulombFriction(torque: 0.01, smoothing_velocity: 5e-324)");
     let delay = with_effect("delay.ron", "TimeDelay(delay: 5e-324)");
+    let offset = with_effect("offset.ron", "OutputOffset(sensor: Potentiometer, offset: 1e308)");
+    // One reading of 1e308 in an otherwise ordinary record.
+    let text = std::fs::read_to_string(dir.join("d.csv")).unwrap();
+    let spiked: Vec<String> = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i == 5 {
+                l.splitn(3, ',')
+                    .take(1)
+                    .chain(["1e308"])
+                    .chain(l.splitn(3, ',').skip(2))
+                    .collect::<Vec<_>>()
+                    .join(",")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect();
+    std::fs::write(dir.join("spike.csv"), spiked.join("\n") + "\n").unwrap();
     let cases: Vec<Vec<&str>> = vec![
         vec!["modal", "--model", "m.ron", "--set", "cv=1e308"],
         vec!["modal", "--model", "m.ron", "--set", "kb=1e308"],
@@ -226,6 +262,10 @@ fn extreme_values_end_in_one_line_errors() {
         ],
         vec!["fit", "--model", "m.ron", "--data", "d.csv", "--free", "cv", "--decimate", "1000000000000"],
         vec!["era", "--data", "d.csv", "--order", "100000"],
+        vec!["fit", "--model", &offset, "--data", "d.csv", "--free", "cv"],
+        vec!["fit", "--model", "m.ron", "--data", "spike.csv", "--free", "cv"],
+        vec!["diagnose", "--model", "m.ron", "--data", "spike.csv", "--free", "cv"],
+        vec!["era", "--data", "spike.csv", "--order", "4"],
         vec!["diagnose", "--model", "m.ron", "--data", "d.csv", "--free", "cv", "--only", "nope"],
         vec!["diagnose", "--model", "m.ron", "--data", "d.csv", "--free", "cv", "--threshold", "-5"],
     ];
