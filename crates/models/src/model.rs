@@ -121,7 +121,7 @@ impl Model {
     /// Input names (the CSV columns that drive the model).
     pub fn input_names(&self) -> Vec<String> {
         match self {
-            Model::Slewing(_) => Vec::new(),
+            Model::Slewing(m) => m.input_names().iter().map(|s| s.to_string()).collect(),
             Model::Structure(m) => m.input_names(),
         }
     }

@@ -421,7 +421,12 @@ pub(crate) fn free_decay(
     run: impl FnOnce(f64, f64) -> Result<(), NonlinearError>,
 ) -> Result<(), BoxedError> {
     if grid.inputs.is_some() {
-        return Err(NonlinearError::Solver("this model takes no measured inputs".into()).into());
+        return Err(NonlinearError::Solver(
+            "a slewing model with nonlinear effects cannot yet be driven by measured inputs (theta_ref); \
+             drop the inputs or the nonlinear effects"
+                .into(),
+        )
+        .into());
     }
     Ok(run(grid.start, grid.interval)?)
 }

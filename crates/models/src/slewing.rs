@@ -99,12 +99,19 @@ impl LinearModel for SlewingFitModel {
     fn output_names(&self) -> Vec<String> {
         self.model.output_names().iter().map(|s| s.to_string()).collect()
     }
+    fn input_names(&self) -> Vec<String> {
+        self.model.input_names().iter().map(|s| s.to_string()).collect()
+    }
     fn linearize(&self, p: &[f64]) -> Result<Linearized, PlantError> {
         let m = self.model_at(p)?;
         let lin = m.linearization(&self.free)?;
         let needs_dc = lin.dc.iter().any(|d| d.norm_max() > 0.0);
         let mut out = Linearized::new(lin.a, lin.da, lin.c, m.initial_state());
         out.dc = needs_dc.then_some(lin.dc);
+        if let Some((b, db)) = lin.b {
+            out.b = Some(b);
+            out.db = Some(db);
+        }
         Ok(out)
     }
 }

@@ -35,6 +35,26 @@ pub struct ModelFile {
     /// Optional physical effects beyond the paper's model (see `docs/effects.md`).
     #[serde(default)]
     pub effects: Vec<Effect>,
+    /// Measured inputs that drive the model (none: a free decay).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub inputs: Vec<SlewingInput>,
+}
+
+/// A measured input of the slewing experiment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum SlewingInput {
+    /// The commanded hub angle θ_ref \[rad\] (paper Eq. 17: the servo acts on θ_ref − θ), CSV
+    /// column `theta_ref`, held between samples.
+    ReferenceAngle,
+}
+
+impl SlewingInput {
+    /// The CSV column it is read from.
+    pub fn column(self) -> &'static str {
+        match self {
+            SlewingInput::ReferenceAngle => "theta_ref",
+        }
+    }
 }
 
 /// Beam constants.

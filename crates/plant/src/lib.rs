@@ -45,7 +45,9 @@ mod sensors;
 
 pub use effects::{Effect, EffectKind};
 pub use error::PlantError;
-pub use file::{BeamSection, ControlSection, HubSection, InitialCondition, ModelFile, MotorSection, locate};
+pub use file::{
+    BeamSection, ControlSection, HubSection, InitialCondition, ModelFile, MotorSection, SlewingInput, locate,
+};
 pub use modal::{ModalRow, ModeKind, RawMode, modes_of};
 pub use model::{Linearization, PAPER_MODEL_RON, SlewingModel, StateSpace};
 pub use params::{Constants, ParamId, SignRule};

@@ -38,6 +38,9 @@ pub struct Linearization {
     pub da: Vec<Mat<f64>>,
     /// ∂C/∂P_i (zero unless a strain output is measured and P_i changes the mode shapes).
     pub dc: Vec<Mat<f64>>,
+    /// B at P and ∂B/∂P_i, for a model driven by a commanded angle (`inputs: [ReferenceAngle]`):
+    /// B = k_s·[0; M⁻¹·servo_vector], the servo torque k_s(θ_ref − θ) of Eq. 17.
+    pub b: Option<(Mat<f64>, Vec<Mat<f64>>)>,
 }
 
 /// A validated slewing model, ready to assemble.
@@ -111,6 +114,11 @@ impl SlewingModel {
     /// exact matrix-exponential path applies.
     pub fn is_linear(&self) -> bool {
         !self.constants.effects.iter().any(|e| e.is_nonlinear())
+    }
+
+    /// The names of the measured inputs (CSV columns) that drive the model.
+    pub fn input_names(&self) -> Vec<&'static str> {
+        self.file.inputs.iter().map(|i| i.column()).collect()
     }
 
     /// The effects in the model.
@@ -341,18 +349,38 @@ impl SlewingModel {
     /// As [`Self::state_space`].
     pub fn linearization(&self, params: &[ParamId]) -> Result<Linearization, PlantError> {
         let ss = self.state_space()?;
+        let driven = !self.file.inputs.is_empty();
+        let reference_column = |so: &crate::assemble::SecondOrder<Dual64>,
+                                fo: &crate::assemble::FirstOrder<Dual64>| {
+            Mat::from_fn(fo.servo_input.len(), 1, |i, _| fo.servo_input[i] * so.servo_stiffness)
+        };
         let mut da = Vec::with_capacity(params.len());
         let mut dc = Vec::with_capacity(params.len());
+        let mut db = Vec::with_capacity(params.len());
+        let mut b = None;
         for &id in params {
             let mut dual = self.constants.map(|v| Dual64::from(*v));
             dual.field_mut(id).eps = 1.0;
             let so = second_order(&dual)?;
-            let a = first_order(&dual, &so)?.a;
+            let fo = first_order(&dual, &so)?;
+            let a = &fo.a;
             let c = output_matrix(&dual, &so, &self.file.outputs);
             da.push(Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)].eps));
             dc.push(Mat::from_fn(c.nrows(), c.ncols(), |i, j| c[(i, j)].eps));
+            if driven {
+                let column = reference_column(&so, &fo);
+                db.push(Mat::from_fn(column.nrows(), 1, |i, _| column[(i, 0)].eps));
+                b = Some(Mat::from_fn(column.nrows(), 1, |i, _| column[(i, 0)].re));
+            }
         }
-        Ok(Linearization { a: ss.a, c: ss.c, da, dc })
+        if driven && b.is_none() {
+            let dual = self.constants.map(|v| Dual64::from(*v));
+            let so = second_order(&dual)?;
+            let fo = first_order(&dual, &so)?;
+            let column = reference_column(&so, &fo);
+            b = Some(Mat::from_fn(column.nrows(), 1, |i, _| column[(i, 0)].re));
+        }
+        Ok(Linearization { a: ss.a, c: ss.c, da, dc, b: b.map(|b| (b, db)) })
     }
 
     /// The model as RON text with the current values.
