@@ -49,6 +49,15 @@ pub enum WorkflowError {
     /// A candidate without a full refit cannot be scored out of sample.
     #[error("candidate `{0}` has no full refit to start its held-out refits from")]
     Unscored(String),
+    /// The model is driven by measured inputs; the catalog's nonlinear candidates are free-decay
+    /// models for now.
+    #[error(
+        "diagnose works on free decays: this model is driven by {inputs}; remove its `inputs` and give a free-decay record"
+    )]
+    Driven {
+        /// The input columns.
+        inputs: String,
+    },
 }
 
 /// The effect kinds `diagnose` tries (what `--only` accepts): the catalog without backlash,

@@ -103,3 +103,12 @@ fn blind_development_set_meets_its_rules() {
     assert!(wrong("B") <= 1, "B {right:?} of {total:?}");
     assert!(wrong("C") <= 2, "C {right:?} of {total:?}");
 }
+
+#[test]
+fn a_driven_model_is_refused_in_one_sentence() {
+    let driven = edited(|t| t.replace("    bounds: {", "    inputs: [ReferenceAngle],\n    bounds: {"));
+    let data = record(&SlewingModel::paper(), 1);
+    let err = diagnose(&driven, &data, &options()).unwrap_err();
+    assert!(matches!(err, discrepancy::WorkflowError::Driven { .. }), "{err}");
+    assert!(err.to_string().contains("theta_ref"));
+}

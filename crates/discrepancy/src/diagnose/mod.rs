@@ -265,6 +265,9 @@ pub fn diagnose_observed(
     options: &DiagnoseOptions,
     observer: &dyn Observe,
 ) -> Result<Diagnosis, WorkflowError> {
+    if !model.input_names().is_empty() {
+        return Err(WorkflowError::Driven { inputs: model.input_names().join(", ") });
+    }
     let wrapped = Model::Slewing(model.clone());
     let raw = align(&wrapped, raw)?;
     let data = match options.decimate {
