@@ -39,6 +39,9 @@ use plant::{ParamId, PlantError, SlewingModel};
 /// The longest substep by default \[s\].
 pub const DEFAULT_MAX_STEP: f64 = 1.0 / 1280.0;
 
+/// The most substeps one simulation may take.
+const MAX_SUBSTEPS: f64 = 1e8;
+
 /// A slewing model with effects, with `free` parameters, simulated by the exponential
 /// integrator, as a [`ResponseModel`].
 #[derive(Clone, Debug)]
@@ -93,15 +96,15 @@ struct TorqueModel<'a> {
 }
 
 impl TorqueModel<'_> {
-    fn at(&mut self, x: &[f64], with_derivatives: bool) -> Torques {
+    /// The torques at `x` into `out` (with their derivatives if asked; `out` is reused).
+    fn at(&mut self, x: &[f64], with_derivatives: bool, out: &mut Torques) {
         let (servo, hub) = self.real.torques(x);
-        let mut out = Torques {
-            value: [servo, hub],
-            by_state: Vec::new(),
-            by_parameter: vec![[0.0; 2]; self.seeded.len()],
-        };
+        out.value = [servo, hub];
+        out.by_state.clear();
+        out.by_parameter.clear();
+        out.by_parameter.resize(self.seeded.len(), [0.0; 2]);
         if !with_derivatives {
-            return out;
+            return;
         }
         for (d, v) in self.scratch.iter_mut().zip(x) {
             *d = Dual64::from(*v);
@@ -118,7 +121,32 @@ impl TorqueModel<'_> {
                 out.by_parameter[i] = [s.eps, h.eps];
             }
         }
-        out
+    }
+}
+
+/// The buffers of one step, allocated once per simulation.
+struct Workspace {
+    phi_x: Vec<f64>,
+    c: Vec<f64>,
+    u: Vec<[f64; 2]>,
+    a: Vec<f64>,
+    da: Vec<f64>,
+    t_x: Torques,
+    t_a: Torques,
+}
+
+impl Workspace {
+    fn new(n: usize, j: usize) -> Self {
+        let torques = || Torques { value: [0.0; 2], by_state: Vec::new(), by_parameter: Vec::new() };
+        Self {
+            phi_x: vec![0.0; n],
+            c: vec![0.0; n * j],
+            u: vec![[0.0; 2]; j],
+            a: vec![0.0; n],
+            da: vec![0.0; n * j],
+            t_x: torques(),
+            t_a: torques(),
+        }
     }
 }
 
@@ -160,15 +188,22 @@ impl Step {
     }
 
     /// One step of x (length n) and the sensitivities s (j columns of length n, stacked).
-    fn advance(&self, x: &mut [f64], s: &mut [f64], torques: &mut TorqueModel<'_>, sensitivities: bool) {
+    fn advance(
+        &self,
+        x: &mut [f64],
+        s: &mut [f64],
+        torques: &mut TorqueModel<'_>,
+        sensitivities: bool,
+        w: &mut Workspace,
+    ) {
         let n = x.len();
         let j = if sensitivities { s.len() / n } else { 0 };
-        let t_x = torques.at(x, sensitivities);
+        let Workspace { phi_x, c, u, a, da, t_x, t_a } = w;
+        torques.at(x, sensitivities, t_x);
         // c_i = Φ s_i + Φ_i x (shared by predictor and corrector), Φ x.
-        let mut phi_x = vec![0.0; n];
-        mul_add(&self.phi, n, x, &mut phi_x);
-        let mut c = vec![0.0; n * j];
-        let mut u = vec![[0.0; 2]; j];
+        phi_x.fill(0.0);
+        mul_add(&self.phi, n, x, phi_x);
+        c[..n * j].fill(0.0);
         for i in 0..j {
             let (si, ci) = (&s[i * n..(i + 1) * n], &mut c[i * n..(i + 1) * n]);
             mul_add(&self.phi, n, si, ci);
@@ -176,17 +211,17 @@ impl Step {
             u[i] = t_x.directional(si, i);
         }
         // Predictor a = Φx + G τ(x) and its derivatives.
-        let mut a = phi_x.clone();
-        mul_add(&self.zoh, 2, &t_x.value, &mut a);
-        let mut da = c.clone();
+        a.copy_from_slice(phi_x);
+        mul_add(&self.zoh, 2, &t_x.value, a);
+        da[..n * j].copy_from_slice(&c[..n * j]);
         for i in 0..j {
             let dai = &mut da[i * n..(i + 1) * n];
             mul_add(&self.zoh, 2, &u[i], dai);
             mul_add(&self.d_zoh[i], 2, &t_x.value, dai);
         }
-        let t_a = torques.at(&a, sensitivities);
+        torques.at(a, sensitivities, t_a);
         // Corrector.
-        x.copy_from_slice(&phi_x);
+        x.copy_from_slice(phi_x);
         mul_add(&self.now, 2, &t_x.value, x);
         mul_add(&self.next, 2, &t_a.value, x);
         for i in 0..j {
@@ -252,7 +287,18 @@ impl ExponentialResponse {
             })
             .collect();
         let (da, db) = if wanted { (da, db) } else { (Vec::new(), Vec::new()) };
-        let substeps = (h / self.max_step).ceil().max(1.0) as usize;
+        // Every substep of the record, counted before any is taken: a record too long or
+        // too finely stepped ends in an error, not in hours of stepping.
+        let per_sample = (h / self.max_step).ceil().max(1.0);
+        let total = per_sample * out.outputs.nrows() as f64 + (start / self.max_step).ceil();
+        if total > MAX_SUBSTEPS {
+            return Err(NonlinearError::Solver(format!(
+                "{total:.3e} substeps of at most {} s for this record, beyond the {MAX_SUBSTEPS:.0e} budget; \
+                 shorten the record or lengthen the substep",
+                self.max_step
+            )));
+        }
+        let substeps = per_sample as usize;
         let step = Step::new(&a, &da, &b, &db, h / substeps as f64)?;
         let mut torques = TorqueModel {
             real: &real,
@@ -263,6 +309,7 @@ impl ExponentialResponse {
             scratch: vec![Dual64::from(0.0); n],
         };
         let jw = if wanted { j } else { 0 };
+        let mut work = Workspace::new(n, jw);
         let mut x = model.initial_state();
         let mut s = vec![0.0; n * jw];
         // From the model's t = 0 to the first sample: whole substeps, then the remainder.
@@ -270,11 +317,11 @@ impl ExponentialResponse {
             let sub = h / substeps as f64;
             let whole = (start / sub).floor() as usize;
             for _ in 0..whole {
-                step.advance(&mut x, &mut s, &mut torques, wanted);
+                step.advance(&mut x, &mut s, &mut torques, wanted, &mut work);
             }
             let rest = start - whole as f64 * sub;
             if rest > 1e-12 * sub {
-                Step::new(&a, &da, &b, &db, rest)?.advance(&mut x, &mut s, &mut torques, wanted);
+                Step::new(&a, &da, &b, &db, rest)?.advance(&mut x, &mut s, &mut torques, wanted, &mut work);
             }
         }
         let c = &real.c;
@@ -291,7 +338,7 @@ impl ExponentialResponse {
             }
             if sample + 1 < k {
                 for _ in 0..substeps {
-                    step.advance(&mut x, &mut s, &mut torques, wanted);
+                    step.advance(&mut x, &mut s, &mut torques, wanted, &mut work);
                 }
                 if !x.iter().all(|v| v.is_finite()) {
                     return Err(NonlinearError::Solver(format!(
