@@ -444,7 +444,7 @@ pub fn diagnose_observed(
     }
     // Quantization: a lattice in the raw readings.
     if wanted(EffectKind::SensorQuantization) {
-        candidates.extend(quantization_candidates(&start, &raw, &reference, &reference_free, options)?);
+        candidates.extend(quantization_candidates(&start, &raw, &data, &reference, &reference_free)?);
     }
     let chosen = choose(&candidates, options.threshold);
     if let Some(i) = chosen {
@@ -509,13 +509,14 @@ fn choose(candidates: &[Candidate], threshold: f64) -> Option<usize> {
 const LATTICE_Z: f64 = 8.0;
 
 /// One candidate per sensor not yet quantized whose raw readings hold a lattice; named
-/// (`Outscored` until chosen) when the lattice matters, refitted with the quantizer.
+/// (`Outscored` until chosen) when the lattice matters, refitted with the quantizer on `data`
+/// (the record as fitted, decimated if asked).
 fn quantization_candidates(
     start: &SlewingModel,
     raw: &Measurement,
+    data: &Measurement,
     reference: &Fitted,
     free: &[String],
-    options: &DiagnoseOptions,
 ) -> Result<Vec<Candidate>, WorkflowError> {
     let baseline = &reference.outcome;
     let response = Model::Slewing(slewing(&baseline.fitted).clone()).response(&[])?;
@@ -550,11 +551,7 @@ fn quantization_candidates(
         if lattice.matters() {
             let mut model = start.clone();
             model.add_effect(effect)?;
-            let data = match options.decimate {
-                Some(r) if r > 1 => raw.decimate(r)?,
-                _ => raw.clone(),
-            };
-            match run::refit(&Model::Slewing(model), &data, free, None, 60) {
+            match run::refit(&Model::Slewing(model), data, free, None, 60) {
                 Ok(outcome) => {
                     candidate.evidence.reduction = 1.0 - last_error(&outcome) / last_error(baseline);
                     candidate.evidence.whiteness_p = run::whiteness(&outcome);
