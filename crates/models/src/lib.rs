@@ -26,7 +26,7 @@ pub mod simulate;
 pub mod slewing;
 pub mod structure;
 
-pub use exponential::ExponentialResponse;
+pub use exponential::{ExponentialResponse, StructureExponential};
 pub use fit::{ExperimentOutcome, FitOutcome, FitRequest, align, fit, fit_experiments};
 pub use model::{Integrator, ModeRow, Model, ModelKind};
 pub use ode::{NonlinearError, NonlinearResponse};

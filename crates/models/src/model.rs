@@ -3,7 +3,7 @@
 //! field), in one place: [`Model::from_ron`].
 
 use crate::ModelError;
-use crate::exponential::ExponentialResponse;
+use crate::exponential::{ExponentialResponse, StructureExponential};
 use crate::ode::NonlinearResponse;
 use crate::sensors::{SensorEffect, SensorTerm, WithSensors};
 use crate::slewing::SlewingFitModel;
@@ -198,7 +198,7 @@ impl Model {
     pub fn quantization(&self) -> Vec<Option<f64>> {
         match self {
             Model::Slewing(m) => m.quantization(),
-            Model::Structure(m) => vec![None; m.output_names().len()],
+            Model::Structure(m) => m.quantization(),
         }
     }
 
@@ -206,7 +206,7 @@ impl Model {
     pub fn is_linear(&self) -> bool {
         match self {
             Model::Slewing(m) => m.is_linear(),
-            Model::Structure(_) => true,
+            Model::Structure(m) => m.is_linear(),
         }
     }
 
@@ -352,7 +352,16 @@ impl Model {
                     Box::new(ExponentialResponse::new(m.clone(), &physics)?.with_max_step(max_step))
                 }
             },
-            Model::Structure(m) => Box::new(StructureFitModel::new(m.clone(), &physics)?.response()),
+            Model::Structure(m) if m.is_linear() => {
+                Box::new(StructureFitModel::new(m.clone(), &physics)?.response())
+            }
+            Model::Structure(m) => {
+                let max_step = match integrator {
+                    Integrator::Exponential { max_step } => max_step,
+                    Integrator::Adaptive { .. } => crate::exponential::DEFAULT_MAX_STEP,
+                };
+                Box::new(StructureExponential::new(m.clone(), &physics)?.with_max_step(max_step))
+            }
         };
         if sensor_effects.is_empty() {
             return Ok(inner);
@@ -387,7 +396,29 @@ impl Model {
                     Some((name, SensorEffect { output, term, value, free: None }))
                 })
                 .collect(),
-            Model::Structure(_) => Vec::new(),
+            Model::Structure(m) => {
+                let outputs = m.output_names();
+                m.effects()
+                    .iter()
+                    .filter_map(|e| {
+                        let (output, term, value) = match e {
+                            structure::Effect::OutputOffset { output, offset } => {
+                                (output, SensorTerm::Offset, *offset)
+                            }
+                            structure::Effect::SensorScale { output, scale } => {
+                                (output, SensorTerm::Scale, *scale)
+                            }
+                            structure::Effect::SensorDrift { output, rate } => {
+                                (output, SensorTerm::Drift, *rate)
+                            }
+                            _ => return None,
+                        };
+                        let name = e.parameters(&outputs).first()?.0.clone();
+                        let output = outputs.iter().position(|o| o == output)?;
+                        Some((name, SensorEffect { output, term, value, free: None }))
+                    })
+                    .collect()
+            }
         }
     }
 

@@ -198,6 +198,33 @@ impl Compiled {
         Ok(space)
     }
 
+    /// The force columns G = [0; −M⁻¹e_j] of unit forces at the coordinates `columns`, and
+    /// the acceleration outputs' share H of them (second order only).
+    pub fn force_columns<D: Scalar>(
+        &self,
+        values: &[D],
+        columns: &[usize],
+    ) -> Result<(DMatrix<D>, DMatrix<D>), StructureError> {
+        let Some(model) = self.second_order_at(values)? else {
+            return Err(StructureError::Assembly {
+                part: "the force columns".into(),
+                reason: "forces at coordinates need a second-order model".into(),
+            });
+        };
+        let n = model.m.nrows();
+        let mut f = DMatrix::from_element(n, columns.len(), D::zero());
+        for (k, &j) in columns.iter().enumerate() {
+            f[(j, k)] = D::from(-1.0);
+        }
+        let zeros = vec![D::zero(); n];
+        let space = model.with_forces(f).state_space(&[], &zeros, &zeros).map_err(|_| {
+            StructureError::Assembly { part: MASS.into(), reason: "it is singular; check the masses".into() }
+        })?;
+        let g = space.b.expect("a model with forces has B");
+        let h = self.acceleration_share(&g, values, n);
+        Ok((g, h))
+    }
+
     /// C: each output's row (second order: accelerations are rows of the lower half of A).
     fn output_matrix<D: Scalar>(
         &self,
@@ -241,8 +268,22 @@ impl Compiled {
         values: &[D],
         n_coordinates: Option<usize>,
     ) -> DMatrix<D> {
+        let mut d = self.acceleration_share(b, values, n_coordinates.unwrap_or(0));
+        for (row, output) in self.outputs.iter().enumerate() {
+            if let Some(entries) = &output.feedthrough {
+                for (col, entry) in entries.iter().enumerate() {
+                    d[(row, col)] = entry.eval(values);
+                }
+            }
+        }
+        d
+    }
+}
+
+impl Compiled {
+    /// The acceleration outputs' share of the columns `b` of the state equation: Σ w·b[n + i].
+    fn acceleration_share<D: Scalar>(&self, b: &DMatrix<D>, values: &[D], half: usize) -> DMatrix<D> {
         let m = b.ncols();
-        let half = n_coordinates.unwrap_or(0);
         let mut d = DMatrix::from_element(self.outputs.len(), m, D::zero());
         for (row, output) in self.outputs.iter().enumerate() {
             if let OutputRow::Terms(terms) = &output.row {
@@ -253,11 +294,6 @@ impl Compiled {
                             d[(row, col)] += w * b[(half + i, col)];
                         }
                     }
-                }
-            }
-            if let Some(entries) = &output.feedthrough {
-                for (col, entry) in entries.iter().enumerate() {
-                    d[(row, col)] = entry.eval(values);
                 }
             }
         }

@@ -122,6 +122,12 @@ pub enum StructureError {
         /// Why, and what to check.
         reason: String,
     },
+    /// An effect that cannot act on this model.
+    #[error("invalid effect: {reason}")]
+    InvalidEffect {
+        /// What is wrong and what to do.
+        reason: String,
+    },
     /// The eigenvalues of A could not be computed.
     #[error("the eigenvalues of A could not be computed: {reason}")]
     Eigen {

@@ -98,6 +98,7 @@
 
 mod assemble;
 mod compile;
+pub mod effects;
 mod error;
 pub mod expr;
 mod modal;
@@ -107,6 +108,7 @@ mod scan;
 mod schema;
 mod write;
 
+pub use effects::{Effect, EffectKind};
 pub use error::StructureError;
 pub use expr::{EvalError, Expr, ExprError};
 pub use model::{StructureModel, is_structure_file};

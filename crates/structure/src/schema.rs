@@ -23,6 +23,8 @@ pub(crate) struct ModelFile {
     pub outputs: Vec<Output>,
     #[serde(default)]
     pub initial: Initial,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub effects: Vec<crate::effects::Effect>,
 }
 
 /// A matrix or vector entry: a number or an expression of the parameters and derived names.

@@ -1,7 +1,9 @@
 //! [`StructureModel`]: a validated model file, its compiled expressions and current values.
 
 use crate::compile::{Checked, Ctx, compile};
+use crate::effects::{self, Effect, EffectKind, Target};
 use crate::modes::{StructureMode, modes_of};
+use crate::scan::Path;
 use crate::scan::{self, Tree};
 use crate::schema::{self, ModelFile};
 use crate::{StructureError, write};
@@ -46,6 +48,26 @@ pub struct StructureModel {
     file: ModelFile,
     checked: Checked,
     values: Vec<f64>,
+    effects: Vec<Effect>,
+    /// Bounds of effect parameters, by name.
+    effect_bounds: Vec<(String, (f64, f64))>,
+}
+
+/// Where a parameter lives: the file's list, or the k-th parameter of the e-th effect.
+#[derive(Clone, Copy)]
+enum Slot {
+    File(usize),
+    Effect(usize, usize),
+}
+
+/// A force effect's coordinate and its force column, G = [0; −M⁻¹e_j], with the acceleration
+/// outputs' share H of it (module [`crate::effects`]).
+#[derive(Clone, Debug)]
+pub struct ForceParts<D: mem::Scalar> {
+    /// G (N × m), one column per force effect, in the effects' order.
+    pub g: mem::nalgebra::DMatrix<D>,
+    /// H (p × m).
+    pub h: mem::nalgebra::DMatrix<D>,
 }
 
 impl StructureModel {
@@ -61,14 +83,27 @@ impl StructureModel {
         let file = schema::from_str(text).map_err(|e| syntax_error(text, origin, &e))?;
         let checked = compile(&file, &Ctx::new(text, origin))?;
         let values = checked.params.iter().map(|p| p.value).collect();
-        Ok(StructureModel {
+        let mut model = StructureModel {
             name: file.name.clone(),
             origin: origin.to_string(),
             text: text.to_string(),
-            file,
+            file: file.clone(),
             checked,
             values,
-        })
+            effects: Vec::new(),
+            effect_bounds: Vec::new(),
+        };
+        let ctx = Ctx::new(text, origin);
+        for (i, effect) in file.effects.into_iter().enumerate() {
+            model.add_effect(effect).map_err(|e| {
+                let message = match e {
+                    StructureError::InvalidEffect { reason } => reason,
+                    other => other.to_string(),
+                };
+                ctx.invalid(&Path::default().field("effects").index(i), message)
+            })?;
+        }
+        Ok(model)
     }
 
     /// Reads a model file from disk (its path is the origin in error messages).
@@ -88,21 +123,41 @@ impl StructureModel {
 
     /// All parameter names, in declaration order (the order of P in
     /// [`state_space`](Self::state_space)).
+    ///
+    /// The parameters of added effects follow the file's, effect by effect.
     pub fn parameter_names(&self) -> Vec<String> {
-        self.checked.params.iter().map(|p| p.name.clone()).collect()
+        self.checked
+            .params
+            .iter()
+            .map(|p| p.name.clone())
+            .chain(self.effect_parameters().into_iter().map(|(n, _)| n))
+            .collect()
     }
 
-    /// The current values of all parameters, in declaration order.
+    /// The current values of all parameters, in declaration order (then the effects').
     pub fn values(&self) -> Vec<f64> {
-        self.values.clone()
+        self.values.iter().copied().chain(self.effect_parameters().into_iter().map(|(_, v)| v)).collect()
     }
 
-    fn index(&self, name: &str) -> Result<usize, StructureError> {
-        self.checked.params.iter().position(|p| p.name == name).ok_or_else(|| {
-            StructureError::UnknownParameter {
-                name: name.to_string(),
-                valid: self.parameter_names().join(", "),
+    /// The effects' parameters (name, value), effect by effect.
+    fn effect_parameters(&self) -> Vec<(String, f64)> {
+        let outputs = self.output_names();
+        self.effects.iter().flat_map(|e| e.parameters(&outputs)).collect()
+    }
+
+    fn slot(&self, name: &str) -> Result<Slot, StructureError> {
+        if let Some(i) = self.checked.params.iter().position(|p| p.name == name) {
+            return Ok(Slot::File(i));
+        }
+        let outputs = self.output_names();
+        for (e, effect) in self.effects.iter().enumerate() {
+            if let Some(k) = effect.parameters(&outputs).iter().position(|(n, _)| n == name) {
+                return Ok(Slot::Effect(e, k));
             }
+        }
+        Err(StructureError::UnknownParameter {
+            name: name.to_string(),
+            valid: self.parameter_names().join(", "),
         })
     }
 
@@ -115,7 +170,10 @@ impl StructureModel {
     /// # Errors
     /// [`StructureError::UnknownParameter`] (listing the valid names).
     pub fn value(&self, name: &str) -> Result<f64, StructureError> {
-        Ok(self.values[self.index(name)?])
+        Ok(match self.slot(name)? {
+            Slot::File(i) => self.values[i],
+            Slot::Effect(e, k) => self.effects[e].parameters(&self.output_names())[k].1,
+        })
     }
 
     /// Sets a parameter's current value.
@@ -125,16 +183,28 @@ impl StructureModel {
     /// [`StructureError::NotFinite`], or [`StructureError::OutOfBounds`] for a value outside the
     /// parameter's declared bounds (so that [`to_ron`](Self::to_ron) always writes a valid file).
     pub fn set(&mut self, name: &str, value: f64) -> Result<(), StructureError> {
-        let i = self.index(name)?;
+        let slot = self.slot(name)?;
         if !value.is_finite() {
             return Err(StructureError::NotFinite { name: name.to_string(), value });
         }
-        if let Some((lower, upper)) = self.checked.params[i].bounds
+        if let Some((lower, upper)) = self.bounds(name)
             && !(lower..=upper).contains(&value)
         {
             return Err(StructureError::OutOfBounds { name: name.to_string(), value, lower, upper });
         }
-        self.values[i] = value;
+        match slot {
+            Slot::File(i) => self.values[i] = value,
+            Slot::Effect(e, k) => {
+                let mut effect = self.effects[e].clone();
+                effect.set(k, value);
+                if let Some(reason) =
+                    effect.invalid(&self.output_names(), &self.coordinates(), self.is_second_order())
+                {
+                    return Err(StructureError::InvalidEffect { reason });
+                }
+                self.effects[e] = effect;
+            }
+        }
         Ok(())
     }
 
@@ -145,7 +215,150 @@ impl StructureModel {
 
     /// A parameter's declared bounds (lower, upper), if any.
     pub fn bounds(&self, name: &str) -> Option<(f64, f64)> {
-        self.info(name)?.bounds
+        match self.info(name) {
+            Some(info) => info.bounds,
+            None => self.effect_bounds.iter().find(|(n, _)| n == name).map(|(_, b)| *b),
+        }
+    }
+
+    /// Sets the bounds of an effect's parameter (a file's parameter keeps the file's bounds).
+    ///
+    /// # Errors
+    /// [`StructureError::UnknownParameter`] for a name that is not an effect's parameter.
+    pub fn set_bounds(&mut self, name: &str, bounds: (f64, f64)) -> Result<(), StructureError> {
+        match self.slot(name)? {
+            Slot::File(_) => Err(StructureError::InvalidEffect {
+                reason: format!("`{name}` is the file's parameter; its bounds are the file's"),
+            }),
+            Slot::Effect(..) => {
+                self.effect_bounds.retain(|(n, _)| n != name);
+                self.effect_bounds.push((name.to_string(), bounds));
+                Ok(())
+            }
+        }
+    }
+
+    /// The added effects, in order.
+    pub fn effects(&self) -> &[Effect] {
+        &self.effects
+    }
+
+    /// Adds an effect.
+    ///
+    /// # Errors
+    /// [`StructureError::InvalidEffect`] for an unknown output or coordinate, a force on a
+    /// first-order model, an impossible value, a second effect of the same kind at the same
+    /// place, or a second unmodeled mode.
+    pub fn add_effect(&mut self, effect: Effect) -> Result<(), StructureError> {
+        let invalid = |reason: String| Err(StructureError::InvalidEffect { reason });
+        if let Some(reason) =
+            effect.invalid(&self.output_names(), &self.coordinates(), self.is_second_order())
+        {
+            return invalid(reason);
+        }
+        if self.effects.iter().any(|e| e.kind() == effect.kind() && e.target() == effect.target()) {
+            return invalid(format!(
+                "the model already has a {:?} there; one of a kind per place",
+                effect.kind()
+            ));
+        }
+        let names = self.parameter_names();
+        if let Some((n, _)) =
+            effect.parameters(&self.output_names()).into_iter().find(|(n, _)| names.contains(n))
+        {
+            return invalid(format!("its parameter `{n}` is already a parameter of the model; rename it"));
+        }
+        self.effects.push(effect);
+        Ok(())
+    }
+
+    /// Removes the effects of `kind` (at `target` if given); returns how many were removed.
+    pub fn remove_effect(&mut self, kind: EffectKind, target: Option<&Target<'_>>) -> usize {
+        let before = self.effects.len();
+        self.effects.retain(|e| !(e.kind() == kind && target.is_none_or(|t| e.target() == *t)));
+        before - self.effects.len()
+    }
+
+    /// Whether the model is linear (no force effect).
+    pub fn is_linear(&self) -> bool {
+        !self.effects.iter().any(Effect::is_force)
+    }
+
+    /// The quantization step of each output, if its sensor is quantized.
+    pub fn quantization(&self) -> Vec<Option<f64>> {
+        self.output_names()
+            .iter()
+            .map(|o| {
+                self.effects.iter().find_map(|e| match e {
+                    Effect::SensorQuantization { output, step } if output == o => Some(*step),
+                    _ => None,
+                })
+            })
+            .collect()
+    }
+
+    /// The effects' parameters in P, each effect's slice: (effect, start in P).
+    fn effect_offsets(&self) -> Vec<(&Effect, usize)> {
+        let outputs = self.output_names();
+        let mut at = self.checked.params.len();
+        self.effects
+            .iter()
+            .map(|e| {
+                let start = at;
+                at += e.parameters(&outputs).len();
+                (e, start)
+            })
+            .collect()
+    }
+
+    /// The force effects with their coordinates' indices and their parameters' start in P.
+    fn force_effects(&self) -> Vec<(&Effect, usize, usize)> {
+        self.effect_offsets()
+            .into_iter()
+            .filter_map(|(e, start)| match e.target() {
+                Target::Coordinate(c) => Some((e, self.coordinate_index(c)?, start)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// The force effects' forces f(x) at the state x (see [`crate::effects`]) and parameters
+    /// `p` (all of them, as in [`state_space`](Self::state_space)); empty for a linear model.
+    pub fn forces<D: Scalar>(&self, x: &[D], p: &[D]) -> Vec<D> {
+        let n = self.coordinates().len();
+        self.force_effects().into_iter().map(|(e, j, start)| e.force(x, n, j, &p[start..])).collect()
+    }
+
+    /// The states the forces depend on (the force coordinates' displacements and velocities).
+    pub fn force_states(&self) -> Vec<usize> {
+        let n = self.coordinates().len();
+        let mut states: Vec<usize> = self.force_effects().iter().flat_map(|(_, j, _)| [*j, n + *j]).collect();
+        states.sort_unstable();
+        states.dedup();
+        states
+    }
+
+    /// G and H of the force effects at `p` (`None` for a linear model).
+    ///
+    /// # Errors
+    /// As [`state_space`](Self::state_space).
+    pub fn force_parts<D: Scalar>(&self, p: &[D]) -> Result<Option<ForceParts<D>>, StructureError> {
+        let forces = self.force_effects();
+        if forces.is_empty() {
+            return Ok(None);
+        }
+        let values = self.checked.compiled.values(&p[..self.checked.params.len()])?;
+        let columns: Vec<usize> = forces.iter().map(|(_, j, _)| *j).collect();
+        let (g, h) = self.checked.compiled.force_columns(&values, &columns)?;
+        let n_states = self.n_states_with_effects();
+        let mut wide = mem::nalgebra::DMatrix::from_element(n_states, g.ncols(), D::from(0.0));
+        wide.view_mut((0, 0), (g.nrows(), g.ncols())).copy_from(&g);
+        Ok(Some(ForceParts { g: wide, h }))
+    }
+
+    /// The number of states with an unmodeled mode's two.
+    pub fn n_states_with_effects(&self) -> usize {
+        self.n_states() + 2 * usize::from(self.effects.iter().any(|e| e.kind() == EffectKind::UnmodeledMode))
     }
 
     /// A parameter's declared typical size (a positive scale for its steps), if any.
@@ -214,8 +427,24 @@ impl StructureModel {
     /// [`StructureError::ParameterCount`] if `p` has the wrong length;
     /// [`StructureError::Assembly`] if the model cannot be formed at `p` (a singular mass matrix,
     /// modal damping without positive definite M and K, a non-finite entry).
+    ///
+    /// With added effects, `p` holds their parameters too (after the file's, as in
+    /// [`parameter_names`](Self::parameter_names)) and an unmodeled mode's two states follow
+    /// the structure's; sensor effects and forces are not part of the linear model (see
+    /// [`crate::effects`]).
     pub fn state_space<D: Scalar>(&self, p: &[D]) -> Result<StateSpace<D>, StructureError> {
-        self.checked.compiled.state_space(p)
+        let n_file = self.checked.params.len();
+        let expected = self.values.len() + self.effect_parameters().len();
+        if p.len() != expected {
+            return Err(StructureError::ParameterCount { expected, got: p.len() });
+        }
+        let mut space = self.checked.compiled.state_space(&p[..n_file])?;
+        for (effect, start) in self.effect_offsets() {
+            if effect.kind() == EffectKind::UnmodeledMode {
+                effects::append_mode(&mut space, &p[start..]);
+            }
+        }
+        Ok(space)
     }
 
     /// M, D, K and F (if there are inputs) at the parameter values `p`; `None` for a
@@ -224,7 +453,7 @@ impl StructureModel {
     /// # Errors
     /// As [`state_space`](Self::state_space).
     pub fn second_order<D: Scalar>(&self, p: &[D]) -> Result<Option<SecondOrder<D>>, StructureError> {
-        let values = self.checked.compiled.values(p)?;
+        let values = self.checked.compiled.values(&p[..self.checked.params.len().min(p.len())])?;
         self.checked.compiled.second_order_at(&values)
     }
 
@@ -244,7 +473,7 @@ impl StructureModel {
     /// As [`state_space`](Self::state_space); [`StructureError::Eigen`] if the eigenvalues do
     /// not converge.
     pub fn modes(&self) -> Result<Vec<StructureMode>, StructureError> {
-        let space = self.state_space::<f64>(&self.values)?;
+        let space = self.checked.compiled.state_space::<f64>(&self.values)?;
         modes_of(&space.a, self.is_second_order().then_some(space.a.nrows() / 2))
     }
 
@@ -258,6 +487,9 @@ impl StructureModel {
     /// say, is written but rejected when read).
     pub fn to_ron(&self) -> String {
         let file_values: Vec<f64> = self.checked.params.iter().map(|p| p.value).collect();
+        if self.effects != self.file.effects {
+            return self.rewritten();
+        }
         if let Some(text) =
             write::patch_values(&self.text, &Tree::parse(&self.text), &file_values, &self.values)
             && self.reads_back(&text)
@@ -273,13 +505,14 @@ impl StructureModel {
         for ((_, parameter), value) in file.parameters.0.iter_mut().zip(&self.values) {
             parameter.value = *value;
         }
+        file.effects = self.effects.clone();
         schema::to_string(&file)
     }
 
     /// Whether `text` reads back as a model with the current values.
     fn reads_back(&self, text: &str) -> bool {
         StructureModel::from_ron(text, &self.origin)
-            .is_ok_and(|m| m.values.iter().zip(&self.values).all(|(a, b)| a.to_bits() == b.to_bits()))
+            .is_ok_and(|m| m.values().iter().zip(&self.values()).all(|(a, b)| a.to_bits() == b.to_bits()))
     }
 
     /// The file's text as read.
@@ -318,6 +551,16 @@ impl mem::StateSpaceModel for StructureModel {
         StructureModel::input_names(self)
     }
     fn state_space<D: Scalar>(&self, p: &[D]) -> Result<StateSpace<D>, mem::BoxedError> {
+        // Sensor effects and forces are not linear state-space parts: fitting without them
+        // would be a silently wrong answer.
+        if let Some(e) = self.effects.iter().find(|e| !matches!(e.kind(), EffectKind::UnmodeledMode)) {
+            return Err(Box::new(StructureError::InvalidEffect {
+                reason: format!(
+                    "the model's {:?} is not part of its linear state space; fit it through models::Model",
+                    e.kind()
+                ),
+            }));
+        }
         Ok(StructureModel::state_space(self, p)?)
     }
 }

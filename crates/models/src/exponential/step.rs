@@ -1,0 +1,271 @@
+//! The kernel of the exponential integrator, for any model ẋ = A x + G f(x),
+//! y = C x + H f(x) with a few nonlinear forces f (module docs in [`super`]).
+
+use crate::ode::NonlinearError;
+use expm::Response;
+use faer::Mat;
+
+/// The most substeps one simulation may take.
+const MAX_SUBSTEPS: f64 = 1e8;
+
+/// The linear parts of a model at P, or their derivatives with respect to one parameter.
+pub(crate) struct Linear {
+    /// A (n × n).
+    pub a: Mat<f64>,
+    /// G (n × m): how the forces enter the state equation.
+    pub g: Mat<f64>,
+    /// C (p × n).
+    pub c: Mat<f64>,
+    /// H (p × m): how the forces enter the outputs, if they do.
+    pub h: Option<Mat<f64>>,
+    /// x(0).
+    pub x0: Vec<f64>,
+}
+
+/// The forces at a state with their derivatives.
+pub(crate) struct Forces {
+    /// f (m).
+    pub value: Vec<f64>,
+    /// (state k, ∂f/∂x_k (m)) for the states the forces depend on.
+    pub by_state: Vec<(usize, Vec<f64>)>,
+    /// ∂f/∂P_i (m) per free parameter.
+    pub by_parameter: Vec<Vec<f64>>,
+}
+
+impl Forces {
+    fn new(m: usize, j: usize) -> Self {
+        Self { value: vec![0.0; m], by_state: Vec::new(), by_parameter: vec![vec![0.0; m]; j] }
+    }
+
+    /// f_x v + f_P_i into `out`.
+    fn directional(&self, v: &[f64], i: usize, out: &mut [f64]) {
+        out.copy_from_slice(&self.by_parameter[i]);
+        for (k, d) in &self.by_state {
+            for (o, dk) in out.iter_mut().zip(d) {
+                *o += dk * v[*k];
+            }
+        }
+    }
+}
+
+/// A model's nonlinear forces.
+pub(crate) trait Forcing {
+    /// f at `x` into `out` (with ∂f/∂x and ∂f/∂P_i if `with_derivatives`; `out` is reused).
+    fn at(&mut self, x: &[f64], with_derivatives: bool, out: &mut Forces);
+}
+
+/// Row-major small dense matrix.
+fn flat(m: &Mat<f64>) -> Vec<f64> {
+    (0..m.nrows() * m.ncols()).map(|k| m[(k / m.ncols(), k % m.ncols())]).collect()
+}
+
+/// y += M x for a row-major r × c matrix.
+fn mul_add(m: &[f64], cols: usize, x: &[f64], y: &mut [f64]) {
+    for (r, yr) in y.iter_mut().enumerate() {
+        let row = &m[r * cols..(r + 1) * cols];
+        *yr += row.iter().zip(x).map(|(a, b)| a * b).sum::<f64>();
+    }
+}
+
+/// The buffers of one step, allocated once per simulation.
+struct Workspace {
+    phi_x: Vec<f64>,
+    c: Vec<f64>,
+    u: Vec<f64>,
+    ua: Vec<f64>,
+    a: Vec<f64>,
+    da: Vec<f64>,
+    t_x: Forces,
+    t_a: Forces,
+}
+
+impl Workspace {
+    fn new(n: usize, m: usize, j: usize) -> Self {
+        Self {
+            phi_x: vec![0.0; n],
+            c: vec![0.0; n * j],
+            u: vec![0.0; m * j],
+            ua: vec![0.0; m],
+            a: vec![0.0; n],
+            da: vec![0.0; n * j],
+            t_x: Forces::new(m, j),
+            t_a: Forces::new(m, j),
+        }
+    }
+}
+
+/// One step's matrices, flattened.
+struct Step {
+    m: usize,
+    phi: Vec<f64>,
+    now: Vec<f64>,
+    next: Vec<f64>,
+    zoh: Vec<f64>,
+    d_phi: Vec<Vec<f64>>,
+    d_now: Vec<Vec<f64>>,
+    d_next: Vec<Vec<f64>>,
+    d_zoh: Vec<Vec<f64>>,
+}
+
+impl Step {
+    fn new(lin: &Linear, d: &[Linear], h: f64) -> Result<Self, NonlinearError> {
+        let das: Vec<_> = d.iter().map(|m| m.a.as_ref()).collect();
+        let dbs: Vec<_> = d.iter().map(|m| m.g.as_ref()).collect();
+        let g = expm::step_gains(lin.a.as_ref(), &das, lin.g.as_ref(), &dbs, h)
+            .map_err(|e| NonlinearError::Solver(format!("the step's exponential: {e}")))?;
+        let zoh = &g.now + &g.next;
+        Ok(Self {
+            m: lin.g.ncols(),
+            phi: flat(&g.phi),
+            now: flat(&g.now),
+            next: flat(&g.next),
+            zoh: flat(&zoh),
+            d_phi: g.d_phi.iter().map(flat).collect(),
+            d_zoh: g.d_now.iter().zip(&g.d_next).map(|(a, b)| flat(&(a + b))).collect(),
+            d_now: g.d_now.iter().map(flat).collect(),
+            d_next: g.d_next.iter().map(flat).collect(),
+        })
+    }
+
+    /// One step of x (length n) and the sensitivities s (j columns of length n, stacked).
+    fn advance(
+        &self,
+        x: &mut [f64],
+        s: &mut [f64],
+        forcing: &mut dyn Forcing,
+        sensitivities: bool,
+        w: &mut Workspace,
+    ) {
+        let n = x.len();
+        let m = self.m;
+        let j = if sensitivities { s.len() / n } else { 0 };
+        let Workspace { phi_x, c, u, ua, a, da, t_x, t_a } = w;
+        forcing.at(x, sensitivities, t_x);
+        // c_i = Φ s_i + Φ_i x (shared by predictor and corrector), Φ x.
+        phi_x.fill(0.0);
+        mul_add(&self.phi, n, x, phi_x);
+        c[..n * j].fill(0.0);
+        for i in 0..j {
+            let (si, ci) = (&s[i * n..(i + 1) * n], &mut c[i * n..(i + 1) * n]);
+            mul_add(&self.phi, n, si, ci);
+            mul_add(&self.d_phi[i], n, x, ci);
+            t_x.directional(si, i, &mut u[i * m..(i + 1) * m]);
+        }
+        // Predictor a = Φx + G f(x) and its derivatives.
+        a.copy_from_slice(phi_x);
+        mul_add(&self.zoh, m, &t_x.value, a);
+        da[..n * j].copy_from_slice(&c[..n * j]);
+        for i in 0..j {
+            let dai = &mut da[i * n..(i + 1) * n];
+            mul_add(&self.zoh, m, &u[i * m..(i + 1) * m], dai);
+            mul_add(&self.d_zoh[i], m, &t_x.value, dai);
+        }
+        forcing.at(a, sensitivities, t_a);
+        // Corrector.
+        x.copy_from_slice(phi_x);
+        mul_add(&self.now, m, &t_x.value, x);
+        mul_add(&self.next, m, &t_a.value, x);
+        for i in 0..j {
+            let si = &mut s[i * n..(i + 1) * n];
+            si.copy_from_slice(&c[i * n..(i + 1) * n]);
+            mul_add(&self.now, m, &u[i * m..(i + 1) * m], si);
+            mul_add(&self.d_now[i], m, &t_x.value, si);
+            t_a.directional(&da[i * n..(i + 1) * n], i, ua);
+            mul_add(&self.next, m, ua, si);
+            mul_add(&self.d_next[i], m, &t_a.value, si);
+        }
+    }
+}
+
+/// Simulates `lin` with `forcing` from x(0) at the model's t = 0: fills `out` (K × p outputs,
+/// (K·p) × j sensitivities, j = `d.len()` or none if `out` has no sensitivity columns) at
+/// t_k = start + k·h, with substeps no longer than `max_step`.
+pub(crate) fn integrate(
+    lin: &Linear,
+    d: &[Linear],
+    forcing: &mut dyn Forcing,
+    start: f64,
+    h: f64,
+    max_step: f64,
+    out: &mut Response,
+) -> Result<(), NonlinearError> {
+    if !(h.is_finite() && h > 0.0 && start.is_finite() && start >= 0.0) {
+        return Err(NonlinearError::Solver(format!("invalid grid: start {start} s, interval {h} s")));
+    }
+    if !(max_step.is_finite() && max_step > 0.0) {
+        return Err(NonlinearError::Solver(format!("invalid substep {max_step} s")));
+    }
+    let n = lin.a.nrows();
+    let m = lin.g.ncols();
+    let wanted = out.sensitivities.ncols() == d.len() && !d.is_empty();
+    let d = if wanted { d } else { &[] };
+    let j = d.len();
+    // Every substep of the record, counted before any is taken: a record too long or too
+    // finely stepped ends in an error, not in hours of stepping.
+    let per_sample = (h / max_step).ceil().max(1.0);
+    let total = per_sample * out.outputs.nrows() as f64 + (start / max_step).ceil();
+    if total > MAX_SUBSTEPS {
+        return Err(NonlinearError::Solver(format!(
+            "{total:.3e} substeps of at most {max_step} s for this record, beyond the {MAX_SUBSTEPS:.0e} budget; \
+             shorten the record or lengthen the substep"
+        )));
+    }
+    let substeps = per_sample as usize;
+    let step = Step::new(lin, d, h / substeps as f64)?;
+    let mut work = Workspace::new(n, m, j);
+    let mut x = lin.x0.clone();
+    let mut s: Vec<f64> = (0..j).flat_map(|i| d[i].x0.iter().copied()).collect();
+    // From the model's t = 0 to the first sample: whole substeps, then the remainder.
+    if start > 0.0 {
+        let sub = h / substeps as f64;
+        let whole = (start / sub).floor() as usize;
+        for _ in 0..whole {
+            step.advance(&mut x, &mut s, forcing, wanted, &mut work);
+        }
+        let rest = start - whole as f64 * sub;
+        if rest > 1e-12 * sub {
+            Step::new(lin, d, rest)?.advance(&mut x, &mut s, forcing, wanted, &mut work);
+        }
+    }
+    let c = &lin.c;
+    let p_out = c.nrows();
+    let k = out.outputs.nrows();
+    let mut feed = Forces::new(m, j);
+    let mut du = vec![0.0; m];
+    for sample in 0..k {
+        if lin.h.is_some() {
+            forcing.at(&x, wanted, &mut feed);
+        }
+        for o in 0..p_out {
+            let mut y: f64 = (0..n).map(|r| c[(o, r)] * x[r]).sum();
+            if let Some(hm) = &lin.h {
+                y += (0..m).map(|q| hm[(o, q)] * feed.value[q]).sum::<f64>();
+            }
+            out.outputs[(sample, o)] = y;
+            for i in 0..j {
+                let si = &s[i * n..(i + 1) * n];
+                let mut dy: f64 = (0..n).map(|r| c[(o, r)] * si[r] + d[i].c[(o, r)] * x[r]).sum();
+                if let (Some(hm), Some(dh)) = (&lin.h, &d[i].h) {
+                    feed.directional(si, i, &mut du);
+                    dy += (0..m).map(|q| hm[(o, q)] * du[q] + dh[(o, q)] * feed.value[q]).sum::<f64>();
+                }
+                out.sensitivities[(sample * p_out + o, i)] = dy;
+            }
+        }
+        if sample + 1 < k {
+            for _ in 0..substeps {
+                step.advance(&mut x, &mut s, forcing, wanted, &mut work);
+            }
+            if !x.iter().all(|v| v.is_finite()) {
+                return Err(NonlinearError::Solver(format!(
+                    "the response left the finite numbers at t = {} s: an effect is too strong for the record",
+                    start + (sample + 1) as f64 * h
+                )));
+            }
+        }
+    }
+    if !(out.outputs.as_ref().is_all_finite() && out.sensitivities.as_ref().is_all_finite()) {
+        return Err(NonlinearError::Solver("the sensitivities left the finite numbers".into()));
+    }
+    Ok(())
+}

@@ -1,0 +1,201 @@
+//! Effects on a structure model file (`structure::effects`): the forces at coordinates against an
+//! independent fourth-order Runge–Kutta simulation of the same building written out here by
+//! hand, their sensitivities against central differences, the unmodeled mode against its closed
+//! form, the sensor terms against their definition, and the file's errors and round trip.
+
+use expm::Response;
+use mem::{Grid, ResponseModel};
+use models::Model;
+
+const FILE: &str = include_str!("../../../fixtures/shear_building.ron");
+
+/// The fixture with `effects` added to its file.
+fn with_effects(effects: &str) -> Model {
+    let text = FILE.trim_end().trim_end_matches(')').to_string() + &format!("    effects: [{effects}],\n)\n");
+    Model::from_ron(&text, "building.ron").expect("the file reads")
+}
+
+fn respond(model: &dyn ResponseModel, p: &[f64], k: usize, h: f64) -> Response {
+    let mut out = Response::zeros(k, model.output_names().len(), model.n_params());
+    model.respond(p, &Grid::free(h), &mut out).expect("it simulates");
+    out
+}
+
+/// The nominal building, by hand: M = 1000 I, K from k1..k3, D = αM + βK.
+fn building() -> ([[f64; 3]; 3], [[f64; 3]; 3]) {
+    let (m, k1, k2, k3, alpha, beta) = (1000.0, 2.5e6, 2.25e6, 1.875e6, 0.375, 1.25e-3);
+    let k = [[k1 + k2, -k2, 0.0], [-k2, k2 + k3, -k3], [0.0, -k3, k3]];
+    let mut d = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            d[i][j] = beta * k[i][j] + if i == j { alpha * m } else { 0.0 };
+        }
+    }
+    (k, d)
+}
+
+/// RK4 with a fine fixed step of the building with a cubic spring at q1, drag at q3 and dry
+/// friction at q2; returns q1, q3, and the acceleration of q3 at every `h`.
+fn rk4(k_samples: usize, h: f64, cubic: f64, drag: (f64, f64), friction: (f64, f64)) -> Vec<[f64; 3]> {
+    let (k, d) = building();
+    let rhs = |x: &[f64; 6]| -> [f64; 6] {
+        let (q, v) = ([x[0], x[1], x[2]], [x[3], x[4], x[5]]);
+        let mut f = [0.0; 3];
+        f[0] -= cubic * q[0].powi(3);
+        f[2] -= drag.0 * v[2] * v[2].abs().powf(drag.1 - 1.0);
+        f[1] -= friction.0 * v[1] / (v[1] * v[1] + friction.1 * friction.1).sqrt();
+        let mut out = [v[0], v[1], v[2], 0.0, 0.0, 0.0];
+        for i in 0..3 {
+            let force: f64 = f[i] - (0..3).map(|j| k[i][j] * q[j] + d[i][j] * v[j]).sum::<f64>();
+            out[3 + i] = force / 1000.0;
+        }
+        out
+    };
+    let mut x = [0.01, 0.02, 0.03, 0.0, 0.0, 0.0];
+    let sub = 200;
+    let dt = h / sub as f64;
+    let mut out = Vec::with_capacity(k_samples);
+    for _ in 0..k_samples {
+        out.push([x[0], x[2], rhs(&x)[5]]);
+        for _ in 0..sub {
+            let add = |a: &[f64; 6], b: &[f64; 6], s: f64| std::array::from_fn(|i| a[i] + s * b[i]);
+            let k1 = rhs(&x);
+            let k2 = rhs(&add(&x, &k1, dt / 2.0));
+            let k3 = rhs(&add(&x, &k2, dt / 2.0));
+            let k4 = rhs(&add(&x, &k3, dt));
+            x = std::array::from_fn(|i| x[i] + dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]));
+        }
+    }
+    out
+}
+
+const EFFECTS: &str = "CubicStiffness(coordinate: \"q1\", coefficient: 3e10), \
+     Drag(coordinate: \"q3\", coefficient: 800, exponent: 2.0), \
+     DryFriction(coordinate: \"q2\", force: 150, smoothing_velocity: 0.01)";
+
+#[test]
+fn forces_at_coordinates_match_an_independent_runge_kutta() {
+    let model = with_effects(EFFECTS);
+    assert!(!model.is_linear());
+    let (k, h) = (400, 0.005);
+    let reference = rk4(k, h, 3e10, (800.0, 2.0), (150.0, 0.01));
+    let out = respond(model.response(&[]).unwrap().as_ref(), &[], k, h);
+    let peak = reference.iter().map(|r| r[1].abs()).fold(0.0, f64::max);
+    let worst = (0..k)
+        .map(|s| {
+            (out.outputs[(s, 0)] - reference[s][0]).abs().max((out.outputs[(s, 1)] - reference[s][1]).abs())
+        })
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-4 * peak, "worst {worst:e} against a peak {peak:e}");
+    // The forces do act: the linear building is far from this response.
+    let linear = Model::from_ron(FILE, "building.ron").unwrap();
+    let plain = respond(linear.response(&[]).unwrap().as_ref(), &[], k, h);
+    let apart = (0..k).map(|s| (plain.outputs[(s, 1)] - reference[s][1]).abs()).fold(0.0, f64::max);
+    assert!(apart > 100.0 * worst, "the effects change the response by {apart:e} only");
+}
+
+#[test]
+fn an_acceleration_output_reads_the_forces_too() {
+    let text = FILE.replace(
+        "(column: \"q3\", measures: Displacement(\"q3\"), unit: \"m\"),",
+        "(column: \"a3\", measures: Acceleration(\"q3\"), unit: \"m/s^2\"),",
+    );
+    let text = text.trim_end().trim_end_matches(')').to_string() + &format!("    effects: [{EFFECTS}],\n)\n");
+    let model = Model::from_ron(&text, "building.ron").unwrap();
+    let (k, h) = (400, 0.005);
+    let reference = rk4(k, h, 3e10, (800.0, 2.0), (150.0, 0.01));
+    let out = respond(model.response(&[]).unwrap().as_ref(), &[], k, h);
+    let peak = reference.iter().map(|r| r[2].abs()).fold(0.0, f64::max);
+    let worst = (0..k).map(|s| (out.outputs[(s, 1)] - reference[s][2]).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-3 * peak, "worst {worst:e} against a peak {peak:e}");
+}
+
+#[test]
+fn force_sensitivities_are_central_differences() {
+    let model = with_effects(EFFECTS);
+    let free = ["k1", "beta", "cubic_q1", "drag_q3", "drag_exponent_q3", "friction_q2"];
+    let response = model.response(&free).unwrap();
+    let p: Vec<f64> = free.iter().map(|n| model.value(n).unwrap()).collect();
+    let (k, h) = (300, 0.005);
+    let out = respond(response.as_ref(), &p, k, h);
+    for (i, name) in free.iter().enumerate() {
+        let step = 1e-5 * p[i].abs();
+        let shifted = |s: f64| {
+            let mut q = p.clone();
+            q[i] += s;
+            respond(response.as_ref(), &q, k, h).outputs
+        };
+        let (plus, minus) = (shifted(step), shifted(-step));
+        let scale = (0..k * 2).map(|r| out.sensitivities[(r, i)].abs()).fold(0.0, f64::max);
+        for s in 0..k {
+            for o in 0..2 {
+                let fd = (plus[(s, o)] - minus[(s, o)]) / (2.0 * step);
+                let exact = out.sensitivities[(s * 2 + o, i)];
+                assert!(
+                    (fd - exact).abs() < 1e-5 * scale,
+                    "{name} at sample {s}, output {o}: {exact:e} vs {fd:e}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn an_unmodeled_mode_adds_its_closed_form() {
+    let (f, zeta, (a1, b1), (a3, b3)): (f64, f64, (f64, f64), (f64, f64)) =
+        (23.0, 0.02, (1e-3, -5e-4), (2e-4, 7e-4));
+    let model = with_effects(&format!(
+        "UnmodeledMode(frequency_hz: {f}, damping_ratio: {zeta}, amplitudes: [({a1}, {b1}), ({a3}, {b3})])"
+    ));
+    assert!(model.is_linear(), "a mode is linear: the exact path applies");
+    let plain = Model::from_ron(FILE, "building.ron").unwrap();
+    let (k, h) = (500, 0.002);
+    let with = respond(model.response(&[]).unwrap().as_ref(), &[], k, h);
+    let without = respond(plain.response(&[]).unwrap().as_ref(), &[], k, h);
+    let w = 2.0 * std::f64::consts::PI * f;
+    let wd = w * (1.0 - zeta * zeta).sqrt();
+    for s in 0..k {
+        let t = s as f64 * h;
+        let decay = (-zeta * w * t).exp();
+        let eta = decay * ((wd * t).cos() + zeta * w / wd * (wd * t).sin());
+        let rate = -w * w / wd * decay * (wd * t).sin();
+        for (o, (a, b)) in [(a1, b1), (a3, b3)].into_iter().enumerate() {
+            let expected = without.outputs[(s, o)] + a * eta + b * rate / w;
+            assert!((with.outputs[(s, o)] - expected).abs() < 1e-10, "sample {s} output {o}");
+        }
+    }
+}
+
+#[test]
+fn sensor_terms_act_on_structure_outputs() {
+    let model = with_effects(
+        "OutputOffset(output: \"q1\", offset: 1e-3), SensorScale(output: \"q3\", scale: 0.05), \
+         SensorDrift(output: \"q3\", rate: -2e-4)",
+    );
+    let plain = Model::from_ron(FILE, "building.ron").unwrap();
+    let (k, h) = (200, 0.005);
+    let with = respond(model.response(&[]).unwrap().as_ref(), &[], k, h);
+    let without = respond(plain.response(&[]).unwrap().as_ref(), &[], k, h);
+    for s in 0..k {
+        let t = s as f64 * h;
+        assert!((with.outputs[(s, 0)] - (without.outputs[(s, 0)] + 1e-3)).abs() < 1e-12);
+        assert!((with.outputs[(s, 1)] - (1.05 * without.outputs[(s, 1)] - 2e-4 * t)).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn effects_are_checked_where_they_stand_and_written_back() {
+    let text = FILE.trim_end().trim_end_matches(')').to_string()
+        + "    effects: [Drag(coordinate: \"q9\", coefficient: 1, exponent: 2)],\n)\n";
+    let err = Model::from_ron(&text, "building.ron").unwrap_err().to_string();
+    assert!(err.starts_with("building.ron:") && err.contains("q9") && !err.contains('\n'), "{err}");
+    let line = text.lines().position(|l| l.contains("q9")).unwrap() + 1;
+    assert!(err.contains(&format!(":{line}:")), "{err}");
+    // Written back with the effects and their values.
+    let mut model = with_effects(EFFECTS);
+    model.set("cubic_q1", 1e10).unwrap();
+    let again = Model::from_ron(&model.to_ron(), "again.ron").unwrap();
+    assert_eq!(again.value("cubic_q1").unwrap(), 1e10);
+    assert_eq!(again.value("friction_q2").unwrap(), 150.0);
+    assert!(!again.is_linear());
+}
