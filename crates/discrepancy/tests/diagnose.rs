@@ -29,7 +29,7 @@ fn a_damping_and_viscous_mismatch_is_not_a_missing_effect() {
             .replace("modal_damping: [0.5, 1.0, 1.0]", "modal_damping: [1.0, 2.0, 2.0]")
     });
     assert!(truth.constants().viscous_damping == 0.1, "the edit took");
-    let d = diagnose(&SlewingModel::paper(), &record(&truth, 3), &options()).unwrap();
+    let d = diagnose(&SlewingModel::paper().into(), &record(&truth, 3), &options()).unwrap();
     assert_eq!(d.effect(), "none", "{:?}", d.answer());
     assert!(
         !d.mismatch_parameters.is_empty(),
@@ -46,7 +46,7 @@ fn an_offset_is_named_on_its_sensor_and_the_gap_shrinks() {
             "    effects: [OutputOffset(sensor: Tachometer, offset: 0.01)],\n    bounds: {",
         )
     });
-    let d = diagnose(&SlewingModel::paper(), &record(&truth, 5), &options()).unwrap();
+    let d = diagnose(&SlewingModel::paper().into(), &record(&truth, 5), &options()).unwrap();
     let named = d.named().expect("an offset of many noise sigma is named");
     assert_eq!(named.label, "output_offset(theta_dot)", "{:?}", d.answer());
     assert!(d.augmented_error() < 0.5 * d.baseline_error());
@@ -81,7 +81,7 @@ fn blind_development_set_meets_its_rules() {
         if let Some(i) = args.iter().position(|a| *a == "--decimate") {
             options.decimate = Some(args[i + 1].parse().unwrap());
         }
-        let d = diagnose(&model, &data, &options).unwrap();
+        let d = diagnose(&model.clone().into(), &data, &options).unwrap();
         let accept: Vec<&str> =
             case["accept"].as_array().unwrap().iter().filter_map(|v| v.as_str()).collect();
         // As the set's scorer: a sensor effect of catalog physics must name the right sensor.
@@ -108,7 +108,7 @@ fn blind_development_set_meets_its_rules() {
 fn a_driven_model_is_refused_in_one_sentence() {
     let driven = edited(|t| t.replace("    bounds: {", "    inputs: [ReferenceAngle],\n    bounds: {"));
     let data = record(&SlewingModel::paper(), 1);
-    let err = diagnose(&driven, &data, &options()).unwrap_err();
+    let err = diagnose(&driven.into(), &data, &options()).unwrap_err();
     assert!(matches!(err, discrepancy::WorkflowError::Driven { .. }), "{err}");
     assert!(err.to_string().contains("theta_ref"));
 }

@@ -28,7 +28,7 @@ pub mod structure;
 
 pub use exponential::{ExponentialResponse, StructureExponential};
 pub use fit::{ExperimentOutcome, FitOutcome, FitRequest, align, fit, fit_experiments};
-pub use model::{Integrator, ModeRow, Model, ModelKind};
+pub use model::{Integrator, ModeRow, Model, ModelEffect, ModelKind};
 pub use ode::{NonlinearError, NonlinearResponse};
 pub use simulate::{simulate, simulate_model};
 pub use slewing::SlewingFitModel;
@@ -72,6 +72,14 @@ pub enum ModelError {
     /// A simulation failed.
     #[error(transparent)]
     Simulation(#[from] NonlinearError),
+    /// An effect of one kind of model added to the other.
+    #[error("{effect} is an effect of the other kind of model; this is a {model:?} model")]
+    WrongKind {
+        /// The effect.
+        effect: String,
+        /// The model's kind.
+        model: ModelKind,
+    },
     /// The data's columns are not the model's outputs.
     #[error("the data columns {data:?} do not match the model's outputs {model:?}")]
     Columns {

@@ -23,6 +23,40 @@ pub enum Model {
     Structure(StructureModel),
 }
 
+/// An effect added to a model, of the model's own kind (`plant::Effect` for the slewing rig,
+/// `structure::Effect` for a structure).
+#[derive(Clone, Debug, PartialEq)]
+pub enum ModelEffect {
+    /// An effect of the slewing rig.
+    Slewing(plant::Effect),
+    /// An effect on a structure.
+    Structure(structure::Effect),
+}
+
+impl From<plant::Effect> for ModelEffect {
+    fn from(effect: plant::Effect) -> Self {
+        ModelEffect::Slewing(effect)
+    }
+}
+
+impl From<structure::Effect> for ModelEffect {
+    fn from(effect: structure::Effect) -> Self {
+        ModelEffect::Structure(effect)
+    }
+}
+
+impl From<SlewingModel> for Model {
+    fn from(model: SlewingModel) -> Self {
+        Model::Slewing(model)
+    }
+}
+
+impl From<StructureModel> for Model {
+    fn from(model: StructureModel) -> Self {
+        Model::Structure(model)
+    }
+}
+
 /// How a nonlinear slewing model is integrated.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Integrator {
@@ -174,6 +208,54 @@ impl Model {
             Model::Structure(m) => m.set(name, value)?,
         }
         Ok(())
+    }
+
+    /// Adds an effect of the model's kind.
+    ///
+    /// # Errors
+    /// An effect of the other kind ([`ModelError::WrongKind`]), or the kind's own refusal
+    /// (an unknown place, a duplicate, an impossible value).
+    pub fn add_effect(&mut self, effect: ModelEffect) -> Result<(), ModelError> {
+        match (self, effect) {
+            (Model::Slewing(m), ModelEffect::Slewing(e)) => m.add_effect(e)?,
+            (Model::Structure(m), ModelEffect::Structure(e)) => m.add_effect(e)?,
+            (model, effect) => {
+                return Err(ModelError::WrongKind { effect: format!("{effect:?}"), model: model.kind() });
+            }
+        }
+        Ok(())
+    }
+
+    /// Sets the (lower, upper) bounds a fit keeps a parameter within (for a structure, an
+    /// effect's parameter; a file's parameter keeps the file's bounds).
+    ///
+    /// # Errors
+    /// An unknown name.
+    pub fn set_bounds(&mut self, name: &str, bounds: (f64, f64)) -> Result<(), ModelError> {
+        match self {
+            Model::Slewing(m) => {
+                let id = m.parameter(name)?;
+                m.set_bounds(id, bounds);
+            }
+            Model::Structure(m) => m.set_bounds(name, bounds)?,
+        }
+        Ok(())
+    }
+
+    /// The slewing model, mutably, if this is one.
+    pub fn as_slewing_mut(&mut self) -> Option<&mut SlewingModel> {
+        match self {
+            Model::Slewing(m) => Some(m),
+            Model::Structure(_) => None,
+        }
+    }
+
+    /// The structure model, if this is one.
+    pub fn as_structure(&self) -> Option<&StructureModel> {
+        match self {
+            Model::Slewing(_) => None,
+            Model::Structure(m) => Some(m),
+        }
     }
 
     /// The coordinates a mode shape is given over (structures), or the slewing rig's θ, q_i.

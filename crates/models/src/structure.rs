@@ -16,6 +16,22 @@ pub struct StructureFitModel {
     values: Vec<f64>,
 }
 
+/// The positions of the named parameters among all of `model`'s.
+///
+/// # Errors
+/// [`ModelError::UnknownParameter`] listing the valid names.
+pub(crate) fn positions(model: &StructureModel, free: &[&str]) -> Result<Vec<usize>, ModelError> {
+    let names = model.parameter_names();
+    free.iter()
+        .map(|n| {
+            names
+                .iter()
+                .position(|m| m == n)
+                .ok_or_else(|| ModelError::UnknownParameter { name: n.to_string(), valid: names.join(", ") })
+        })
+        .collect()
+}
+
 impl StructureFitModel {
     /// Frees the named parameters.
     ///
@@ -23,15 +39,7 @@ impl StructureFitModel {
     /// [`ModelError::UnknownParameter`] listing the valid names.
     pub fn new(model: StructureModel, free: &[&str]) -> Result<Self, ModelError> {
         let names = model.parameter_names();
-        let free = free
-            .iter()
-            .map(|n| {
-                names.iter().position(|m| m == n).ok_or_else(|| ModelError::UnknownParameter {
-                    name: n.to_string(),
-                    valid: names.join(", "),
-                })
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let free = positions(&model, free)?;
         let values = model.values();
         Ok(Self { model, free, names, values })
     }

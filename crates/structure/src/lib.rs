@@ -111,5 +111,5 @@ mod write;
 pub use effects::{Effect, EffectKind};
 pub use error::StructureError;
 pub use expr::{EvalError, Expr, ExprError};
-pub use model::{StructureModel, is_structure_file};
+pub use model::{ForceLaw, ForceParts, StructureModel, is_structure_file};
 pub use modes::StructureMode;

@@ -34,7 +34,7 @@ use catalog::Trial;
 use evidence::NoiseModel;
 use mem::Measurement;
 use models::{FitOutcome, Model, align};
-use plant::{Effect, EffectKind, ParamId, Sensor, SlewingModel};
+use plant::{EffectKind, Sensor};
 use rayon::prelude::*;
 use run::{Fitted, Folds};
 use serde::Serialize;
@@ -180,7 +180,7 @@ pub struct Candidate {
     pub verdict: Verdict,
     /// The refitted model.
     #[serde(skip)]
-    pub model: Option<SlewingModel>,
+    pub model: Option<Model>,
     /// The refit.
     #[serde(skip)]
     pub outcome: Option<FitOutcome>,
@@ -222,8 +222,8 @@ impl Diagnosis {
         self.chosen.map(|i| &self.candidates[i])
     }
     /// The augmented model (the reference's fitted model if none is named).
-    pub fn augmented(&self) -> &SlewingModel {
-        self.named().and_then(|c| c.model.as_ref()).unwrap_or_else(|| slewing(&self.reference.fitted))
+    pub fn augmented(&self) -> &Model {
+        self.named().and_then(|c| c.model.as_ref()).unwrap_or(&self.reference.fitted)
     }
     /// The augmented model's error (the reference's if none is named).
     pub fn augmented_error(&self) -> f64 {
@@ -247,7 +247,7 @@ type Scored = Result<Vec<f64>, WorkflowError>;
 /// # Errors
 /// As [`diagnose_observed`].
 pub fn diagnose(
-    model: &SlewingModel,
+    model: &Model,
     data: &Measurement,
     options: &DiagnoseOptions,
 ) -> Result<Diagnosis, WorkflowError> {
@@ -260,7 +260,7 @@ pub fn diagnose(
 /// Column mismatches and failures of the baseline fit (candidates that fail are reported, not
 /// fatal).
 pub fn diagnose_observed(
-    model: &SlewingModel,
+    model: &Model,
     raw: &Measurement,
     options: &DiagnoseOptions,
     observer: &dyn Observe,
@@ -268,20 +268,20 @@ pub fn diagnose_observed(
     if !model.input_names().is_empty() {
         return Err(WorkflowError::Driven { inputs: model.input_names().join(", ") });
     }
-    let wrapped = Model::Slewing(model.clone());
-    let raw = align(&wrapped, raw)?;
+    let wrapped = model;
+    let raw = align(wrapped, raw)?;
     let data = match options.decimate {
         Some(r) if r > 1 => raw.decimate(r)?,
         _ => raw.clone(),
     };
     let folds = Folds::new(&data);
     observer.progress("baseline", 0, 2);
-    let baseline = Fitted::full(&wrapped, &data, &options.free, 100)?;
+    let baseline = Fitted::full(wrapped, &data, &options.free, 100)?;
     observer.progress("baseline", 1, 2);
     // The reference every candidate is scored against: the baseline with the model's own
     // linear parameters free too, so that a mismatch is absorbed before any effect is tried.
     let mismatch = run::mismatch_parameters(model, &options.free);
-    let from = Model::Slewing(run::with_mismatch_bounds(slewing(&baseline.outcome.fitted).clone()));
+    let from = run::with_mismatch_bounds(baseline.outcome.fitted.clone());
     let all_free: Vec<String> = options.free.iter().chain(&mismatch).cloned().collect();
     let trial_reference = Fitted::full(&from, &data, &all_free, 100)?;
     // The mismatch parameters the data determine stay free; the others keep the model file's
@@ -312,10 +312,20 @@ pub fn diagnose_observed(
     }
     observer.progress("baseline", 2, 2);
     let localisation = localise(&data, &reference.outcome);
-    let start = slewing(&reference.outcome.fitted).clone();
+    let start = reference.outcome.fitted.clone();
     let wanted = |kind: EffectKind| options.only.is_empty() || options.only.contains(&kind);
-    let trials: Vec<Trial> =
-        catalog::trials(&start, &localisation).into_iter().filter(|t| wanted(t.kind)).collect();
+    let reference_residual = reference.outcome.first().residual();
+    let residual_rms: Vec<f64> = (0..reference_residual.ncols())
+        .map(|o| {
+            let n = reference_residual.nrows().max(1) as f64;
+            ((0..reference_residual.nrows()).map(|k| reference_residual[(k, o)].powi(2)).sum::<f64>() / n)
+                .sqrt()
+        })
+        .collect();
+    let trials: Vec<Trial> = catalog::trials(&start, &localisation, &residual_rms)
+        .into_iter()
+        .filter(|t| wanted(t.kind))
+        .collect();
     let total = trials.len();
     let done = std::sync::atomic::AtomicUsize::new(0);
     let fits: Vec<Result<Fitted, WorkflowError>> = trials
@@ -385,7 +395,7 @@ pub fn diagnose_observed(
                     evidence,
                     lattice: None,
                     verdict,
-                    model: Some(slewing(&fit.outcome.fitted).clone()),
+                    model: Some(fit.outcome.fitted.clone()),
                     outcome: Some(fit.outcome),
                 }
             }
@@ -512,33 +522,42 @@ const LATTICE_Z: f64 = 8.0;
 /// (`Outscored` until chosen) when the lattice matters, refitted with the quantizer on `data`
 /// (the record as fitted, decimated if asked).
 fn quantization_candidates(
-    start: &SlewingModel,
+    start: &Model,
     raw: &Measurement,
     data: &Measurement,
     reference: &Fitted,
     free: &[String],
 ) -> Result<Vec<Candidate>, WorkflowError> {
     let baseline = &reference.outcome;
-    let response = Model::Slewing(slewing(&baseline.fitted).clone()).response(&[])?;
+    let response = baseline.fitted.response(&[])?;
     let fitted = mem::sampled_response(response.as_ref(), raw, &[])?.outputs;
     let mut out = Vec::new();
-    for (o, sensor) in start.sensors().iter().enumerate() {
-        if start.quantization()[o].is_some() {
+    let quantized = start.quantization();
+    for (o, name) in start.output_names().iter().enumerate() {
+        if quantized[o].is_some() {
             continue;
         }
         let values: Vec<f64> = (0..raw.n_samples()).map(|k| raw.values()[(k, o)]).collect();
         let n = values.len() as f64;
         let variance = values.iter().enumerate().map(|(k, v)| (v - fitted[(k, o)]).powi(2)).sum::<f64>() / n;
         let Some(lattice) = quantization::detect(&values, variance, LATTICE_Z) else { continue };
-        let label = format!("sensor_quantization({})", sensor.output_name());
-        let effect = Effect::SensorQuantization { sensor: *sensor, step: lattice.step };
+        let (sensor, effect) = match start {
+            Model::Slewing(m) => {
+                let sensor = m.sensors()[o];
+                (Some(sensor), plant::Effect::SensorQuantization { sensor, step: lattice.step }.into())
+            }
+            Model::Structure(_) => (
+                None,
+                structure::Effect::SensorQuantization { output: name.clone(), step: lattice.step }.into(),
+            ),
+        };
         let mut candidate = Candidate {
             kind: EffectKind::SensorQuantization,
-            sensor: Some(*sensor),
-            label,
+            sensor,
+            label: format!("sensor_quantization({name})"),
             replaces: None,
             parameters: vec![EffectParameter {
-                name: format!("quantization_step_{}", sensor.output_name()),
+                name: format!("quantization_step_{name}"),
                 value: lattice.step,
                 std_error: None,
             }],
@@ -551,11 +570,11 @@ fn quantization_candidates(
         if lattice.matters() {
             let mut model = start.clone();
             model.add_effect(effect)?;
-            match run::refit(&Model::Slewing(model), data, free, None, 60) {
+            match run::refit(&model, data, free, None, 60) {
                 Ok(outcome) => {
                     candidate.evidence.reduction = 1.0 - last_error(&outcome) / last_error(baseline);
                     candidate.evidence.whiteness_p = run::whiteness(&outcome);
-                    candidate.model = Some(slewing(&outcome.fitted).clone());
+                    candidate.model = Some(outcome.fitted.clone());
                     candidate.outcome = Some(outcome);
                 }
                 Err(e) => candidate.verdict = Verdict::Failed(e.to_string()),
@@ -581,14 +600,9 @@ fn failed(trial: &Trial, why: String) -> Candidate {
     }
 }
 
-/// The slewing model inside a fitted model (diagnose works on slewing models).
-fn slewing(model: &Model) -> &SlewingModel {
-    model.as_slewing().expect("diagnose fits slewing models only")
-}
-
-/// The parameter ids of a trial's strength (for tests and reports).
-pub fn strength_parameters(trial: &Trial) -> Vec<ParamId> {
-    trial.strength.iter().map(|s| s.id()).collect()
+/// The parameter names of a trial's strength (for tests and reports).
+pub fn strength_parameters(trial: &Trial) -> Vec<String> {
+    trial.strength.iter().flat_map(|s| s.names()).map(str::to_string).collect()
 }
 
 /// The diagnosis as the JSON document of `memid diagnose --json` (docs/json.md).
@@ -640,12 +654,19 @@ impl Diagnosis {
                     ),
                     (None, Some(x)) => format!(
                         "{}: fitted on alternate blocks it predicts the others better by {:.1} nats, ΔBIC {:.1}, \
-                         strength {:.1} σ from none (the model's own parameters {} refitted alongside)",
+                         strength {:.1} σ from none{}",
                         c.label,
                         x,
                         c.evidence.delta_bic,
                         c.evidence.strength_z,
-                        self.mismatch_parameters.join(", ")
+                        if self.mismatch_parameters.is_empty() {
+                            String::new()
+                        } else {
+                            format!(
+                                " (the model's own parameters {} refitted alongside)",
+                                self.mismatch_parameters.join(", ")
+                            )
+                        }
                     ),
                     (None, None) => c.label.clone(),
                 };

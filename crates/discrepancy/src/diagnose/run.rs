@@ -2,15 +2,15 @@
 //! baseline and the shortlist on each fold, with and without the model's own parameters free.
 
 use super::EffectParameter;
-use super::catalog::{Trial, freed};
+use super::catalog::Trial;
 use super::evidence::{block_length, folds};
 use crate::WorkflowError;
 use crate::stats::ljung_box;
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 use mem::Measurement;
-use models::{FitOutcome, FitRequest, Model};
-use plant::{Effect, ParamId, SlewingModel};
+use models::{FitOutcome, FitRequest, Model, ModelEffect};
+use plant::{ParamId, SlewingModel};
 
 /// A refit stops when its next step would lower ‖Y_error‖² by less than this fraction: the
 /// log-likelihood is then within a hundredth of a nat of its optimum per thousand residuals.
@@ -61,7 +61,7 @@ pub(super) fn refit(
     let mut request = FitRequest::new(&refs);
     request.max_iterations = iterations;
     request.derivative_check = mem::DerivativeCheck::Skip;
-    request.integrator = models::Integrator::Exponential { max_step: models::exponential::DEFAULT_MAX_STEP };
+    request.integrator = models::Integrator::Exponential { max_step: max_step(model) };
     request.cost_tolerance = Some(COST_TOLERANCE);
     if let Some(w) = sample_weights {
         request.sample_weights = vec![w.to_vec()];
@@ -70,17 +70,39 @@ pub(super) fn refit(
     Ok(r?)
 }
 
+/// The exponential integrator's longest substep for `model`: the default, or a fortieth of
+/// the period of a structure's highest mode if that is shorter (a force at a coordinate acts
+/// on the time scale of the modes there).
+fn max_step(model: &Model) -> f64 {
+    let default = models::exponential::DEFAULT_MAX_STEP;
+    match model {
+        Model::Structure(_) => model
+            .modes()
+            .ok()
+            .and_then(|m| m.iter().map(|r| r.frequency_hz).reduce(f64::max))
+            .filter(|f| *f > 0.0)
+            .map_or(default, |f| default.min(1.0 / (40.0 * f))),
+        Model::Slewing(_) => default,
+    }
+}
+
 /// The model of a trial: `start` with the effect and its bounds.
-fn with_effect(start: &SlewingModel, trial: &Trial, effect: &Effect) -> Result<SlewingModel, WorkflowError> {
+fn with_effect(start: &Model, trial: &Trial, effect: &ModelEffect) -> Result<Model, WorkflowError> {
     let mut model = start.clone();
-    if let Some(kind) = trial.replaces {
-        model.remove_effect(kind, None)?;
+    if let (Some(kind), Some(slewing)) = (trial.replaces, model.as_slewing_mut()) {
+        slewing.remove_effect(kind, None)?;
     }
     model.add_effect(effect.clone())?;
-    for (id, b) in &trial.bounds {
-        model.set_bounds(*id, *b);
-    }
+    with_bounds(&mut model, trial)?;
     Ok(model)
+}
+
+/// Sets the bounds of a trial's parameters.
+fn with_bounds(model: &mut Model, trial: &Trial) -> Result<(), WorkflowError> {
+    for (name, b) in &trial.bounds {
+        model.set_bounds(name, *b)?;
+    }
+    Ok(())
 }
 
 fn names(free: &[String], extra: impl IntoIterator<Item = String>) -> Vec<String> {
@@ -96,18 +118,18 @@ fn names(free: &[String], extra: impl IntoIterator<Item = String>) -> Vec<String
 /// Refits `start` with the trial's effect on every sample (or on the weighted ones), from each
 /// of its starting values, and keeps the refit with the smallest error.
 pub fn fit_trial(
-    start: &SlewingModel,
+    start: &Model,
     trial: &Trial,
     free: &[String],
     data: &Measurement,
     sample_weights: Option<&[f64]>,
     iterations: usize,
 ) -> Result<Fitted, WorkflowError> {
-    let free = names(free, freed(trial).into_iter().map(|id| id.name()));
+    let free = names(free, trial.freed.iter().cloned());
     let mut best: Option<Result<FitOutcome, WorkflowError>> = None;
     for effect in std::iter::once(&trial.effect).chain(&trial.alternatives) {
         let attempt = with_effect(start, trial, effect)
-            .and_then(|model| refit(&Model::Slewing(model), data, &free, sample_weights, iterations));
+            .and_then(|model| refit(&model, data, &free, sample_weights, iterations));
         best = Some(match (best, attempt) {
             (None, a) | (Some(Err(_)), a) => a,
             (Some(Ok(b)), Ok(a)) => Ok(if last_error(&a) < last_error(&b) { a } else { b }),
@@ -123,10 +145,11 @@ fn last_error(outcome: &FitOutcome) -> f64 {
 
 /// The effect's parameters as fitted.
 pub fn effect_parameters(outcome: &FitOutcome, trial: &Trial) -> Vec<EffectParameter> {
-    freed(trial)
-        .into_iter()
-        .filter_map(|id| {
-            let name = id.name();
+    trial
+        .freed
+        .iter()
+        .filter_map(|name| {
+            let name = name.clone();
             let i = outcome.report.names.iter().position(|n| *n == name)?;
             Some(EffectParameter {
                 name,
@@ -147,30 +170,35 @@ pub fn effect_parameters(outcome: &FitOutcome, trial: &Trial) -> Vec<EffectParam
 /// σ²_s|H = Σ_ss − Σ_sH Σ_HH⁻¹ Σ_Hs (a Schur complement of the fit's covariance; the model's own
 /// parameters stay free).
 pub fn strength_z(outcome: &FitOutcome, trial: &Trial) -> f64 {
-    let model = outcome.fitted.as_slewing().expect("diagnose fits slewing models");
     let report = &outcome.report;
     let cov = &report.statistics.covariance;
-    let index = |id: ParamId| report.names.iter().position(|n| *n == id.name());
+    let index = |name: &str| report.names.iter().position(|n| n == name);
     // A mode is a resonance the data must locate: one whose frequency ends on a bound of its
     // search range was not found there, whatever its coupling does.
-    if index(ParamId::ExtraModeFrequency).is_some_and(|i| report.on_bound[i].is_some()) {
+    if trial.located.as_deref().and_then(index).is_some_and(|i| report.on_bound[i].is_some()) {
         return 0.0;
     }
-    let strength: Vec<ParamId> = trial.strength.iter().map(|s| s.id()).collect();
-    let shape: Vec<usize> = freed(trial)
-        .into_iter()
-        .filter(|id| !strength.contains(id))
-        .filter_map(index)
+    let strength: Vec<&str> = trial.strength.iter().flat_map(|s| s.names()).collect();
+    let shape: Vec<usize> = trial
+        .freed
+        .iter()
+        .filter(|n| !strength.contains(&n.as_str()))
+        .filter_map(|n| index(n))
         .filter(|&h| cov[(h, h)].is_finite() && cov[(h, h)] > 0.0)
         .collect();
     trial
         .strength
         .iter()
         .map(|s| {
-            index(s.id()).map_or(0.0, |i| match conditional_std_error(cov, i, &shape) {
-                Some(se) if se > 0.0 => s.z(report.parameters[i], se, model),
-                _ => 0.0,
-            })
+            s.names()
+                .into_iter()
+                .map(|name| {
+                    index(name).map_or(0.0, |i| match conditional_std_error(cov, i, &shape) {
+                        Some(se) if se > 0.0 => s.z(report.parameters[i], se, &outcome.fitted),
+                        _ => 0.0,
+                    })
+                })
+                .fold(f64::NEG_INFINITY, f64::max)
         })
         .fold(f64::INFINITY, f64::min)
         .min(1e6)
@@ -210,8 +238,14 @@ pub fn whiteness(outcome: &FitOutcome) -> f64 {
 /// The model's own linear parameters a mismatch would live in, that the user did not free:
 /// the modal damping of every flexible mode, the hub and motor inertias and the beam's
 /// stiffness (the mass per length is tried after them, [`secondary_mismatch_parameters`]).
-pub fn mismatch_parameters(model: &SlewingModel, free: &[String]) -> Vec<String> {
-    mismatch_ids(model).into_iter().map(|(id, _)| id.name()).filter(|n| !free.contains(n)).collect()
+///
+/// For a structure: the parameters its file marks free that the user did not.
+pub fn mismatch_parameters(model: &Model, free: &[String]) -> Vec<String> {
+    let names: Vec<String> = match model {
+        Model::Slewing(m) => mismatch_ids(m).into_iter().map(|(id, _)| id.name()).collect(),
+        Model::Structure(m) => m.free(),
+    };
+    names.into_iter().filter(|n| !free.contains(n)).collect()
 }
 
 /// The mismatch parameters with the range a mismatch is looked for in: a fifth to five times a
@@ -241,8 +275,15 @@ fn secondary_mismatch_ids(model: &SlewingModel) -> Vec<(ParamId, (f64, f64))> {
 }
 
 /// The names of [`secondary_mismatch_ids`] the user did not free.
-pub fn secondary_mismatch_parameters(model: &SlewingModel, free: &[String]) -> Vec<String> {
-    secondary_mismatch_ids(model).into_iter().map(|(id, _)| id.name()).filter(|n| !free.contains(n)).collect()
+pub fn secondary_mismatch_parameters(model: &Model, free: &[String]) -> Vec<String> {
+    match model {
+        Model::Slewing(m) => secondary_mismatch_ids(m)
+            .into_iter()
+            .map(|(id, _)| id.name())
+            .filter(|n| !free.contains(n))
+            .collect(),
+        Model::Structure(_) => Vec::new(),
+    }
 }
 
 /// Whether a fit determines parameter `name`: a standard error below half its value's size,
@@ -254,10 +295,12 @@ pub fn determined(outcome: &FitOutcome, name: &str) -> bool {
     })
 }
 
-/// `model` with the mismatch parameters' ranges.
-pub fn with_mismatch_bounds(mut model: SlewingModel) -> SlewingModel {
-    for (id, b) in mismatch_ids(&model).into_iter().chain(secondary_mismatch_ids(&model)) {
-        model.set_bounds(id, b);
+/// `model` with the mismatch parameters' ranges (a structure's are its file's).
+pub fn with_mismatch_bounds(mut model: Model) -> Model {
+    if let Some(m) = model.as_slewing_mut() {
+        for (id, b) in mismatch_ids(m).into_iter().chain(secondary_mismatch_ids(m)) {
+            m.set_bounds(id, b);
+        }
     }
     model
 }
@@ -265,9 +308,9 @@ pub fn with_mismatch_bounds(mut model: SlewingModel) -> SlewingModel {
 /// What a held-out refit starts from.
 pub enum HeldOut<'a> {
     /// The reference model.
-    Reference(&'a SlewingModel),
+    Reference(&'a Model),
     /// A trial, from its full refit if it has one.
-    Candidate(&'a Trial, Option<&'a SlewingModel>),
+    Candidate(&'a Trial, Option<&'a Model>),
 }
 
 /// Fits on fold `fold` (the reference's parameters `free`, and a candidate's own) and returns
@@ -281,19 +324,15 @@ pub fn held_out(
 ) -> Result<Mat<f64>, WorkflowError> {
     let train = &folds.weights[fold];
     let outcome = match from {
-        HeldOut::Reference(model) => {
-            refit(&Model::Slewing(model.clone()), data, free, Some(train), HELD_OUT_ITERATIONS)?
-        }
+        HeldOut::Reference(model) => refit(model, data, free, Some(train), HELD_OUT_ITERATIONS)?,
         HeldOut::Candidate(trial, fitted) => {
             let mut model = match fitted {
                 Some(m) => m.clone(),
                 None => return Err(WorkflowError::Unscored(trial.label.clone())),
             };
-            for (id, b) in &trial.bounds {
-                model.set_bounds(*id, *b);
-            }
-            let free = names(free, freed(trial).into_iter().map(|id| id.name()));
-            refit(&Model::Slewing(model), data, &free, Some(train), HELD_OUT_ITERATIONS)?
+            with_bounds(&mut model, trial)?;
+            let free = names(free, trial.freed.iter().cloned());
+            refit(&model, data, &free, Some(train), HELD_OUT_ITERATIONS)?
         }
     };
     Ok(outcome.first().residual())

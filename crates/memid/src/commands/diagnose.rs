@@ -105,9 +105,6 @@ pub fn diagnosis_table(d: &Diagnosis) -> String {
 pub fn run(args: Args) -> Result<()> {
     let mut inputs = Inputs::default();
     let model = args.model.load(&mut inputs)?;
-    let Some(model) = model.as_slewing().cloned() else {
-        bail!("diagnose works on the slewing rig's model files; structure files are fitted with `memid fit`")
-    };
     let data = read_measurement(&args.data, &mut inputs)?;
     let mut outputs = Outputs::new(&inputs);
     let json_target = args.json.as_deref().map(Target::from_arg);

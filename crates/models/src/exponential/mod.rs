@@ -70,11 +70,8 @@ struct TorqueModel<'a> {
 impl Forcing for TorqueModel<'_> {
     fn at(&mut self, x: &[f64], with_derivatives: bool, out: &mut Forces) {
         let (servo, hub) = self.real.torques(x);
-        out.value.clear();
-        out.value.extend([servo, hub]);
-        out.by_state.clear();
-        out.by_parameter.clear();
-        out.by_parameter.resize(self.seeded.len(), vec![0.0; 2]);
+        out.reset(2, self.seeded.len());
+        out.value.copy_from_slice(&[servo, hub]);
         if !with_derivatives {
             return;
         }
@@ -85,12 +82,13 @@ impl Forcing for TorqueModel<'_> {
             self.scratch[k].eps = 1.0;
             let (s, h) = self.lifted.torques(&self.scratch);
             self.scratch[k].eps = 0.0;
-            out.by_state.push((k, vec![s.eps, h.eps]));
+            out.states.push(k);
+            out.by_state.extend([s.eps, h.eps]);
         }
         for (i, dynamics) in self.seeded.iter().enumerate() {
             if self.acts[i] {
                 let (s, h) = dynamics.torques(&self.scratch);
-                out.by_parameter[i] = vec![s.eps, h.eps];
+                out.by_parameter[2 * i..2 * i + 2].copy_from_slice(&[s.eps, h.eps]);
             }
         }
     }

@@ -22,25 +22,57 @@ pub(crate) struct Linear {
     pub x0: Vec<f64>,
 }
 
-/// The forces at a state with their derivatives.
+/// The forces at a state with their derivatives, in flat buffers reused from step to step.
 pub(crate) struct Forces {
     /// f (m).
     pub value: Vec<f64>,
-    /// (state k, ∂f/∂x_k (m)) for the states the forces depend on.
-    pub by_state: Vec<(usize, Vec<f64>)>,
-    /// ∂f/∂P_i (m) per free parameter.
-    pub by_parameter: Vec<Vec<f64>>,
+    /// The states the forces depend on.
+    pub states: Vec<usize>,
+    /// ∂f/∂x_k (m each), one block per entry of `states`.
+    pub by_state: Vec<f64>,
+    /// ∂f/∂P_i (m each), one block per free parameter.
+    pub by_parameter: Vec<f64>,
 }
 
 impl Forces {
     fn new(m: usize, j: usize) -> Self {
-        Self { value: vec![0.0; m], by_state: Vec::new(), by_parameter: vec![vec![0.0; m]; j] }
+        Self { value: vec![0.0; m], states: Vec::new(), by_state: Vec::new(), by_parameter: vec![0.0; m * j] }
+    }
+
+    /// Sizes the buffers for m forces and j parameters, derivatives zeroed, no states.
+    pub fn reset(&mut self, m: usize, j: usize) {
+        self.value.resize(m, 0.0);
+        self.states.clear();
+        self.by_state.clear();
+        self.by_parameter.clear();
+        self.by_parameter.resize(m * j, 0.0);
     }
 
     /// f_x v + f_P_i into `out`.
+    #[inline(always)]
     fn directional(&self, v: &[f64], i: usize, out: &mut [f64]) {
-        out.copy_from_slice(&self.by_parameter[i]);
-        for (k, d) in &self.by_state {
+        match out.len() {
+            1 => self.directional_fixed::<1>(v, i, out),
+            2 => self.directional_fixed::<2>(v, i, out),
+            _ => self.directional_any(v, i, out),
+        }
+    }
+
+    #[inline(always)]
+    fn directional_fixed<const M: usize>(&self, v: &[f64], i: usize, out: &mut [f64]) {
+        let mut acc: [f64; M] = self.by_parameter[i * M..(i + 1) * M].try_into().expect("M entries");
+        for (k, d) in self.states.iter().zip(self.by_state.chunks_exact(M)) {
+            for q in 0..M {
+                acc[q] += d[q] * v[*k];
+            }
+        }
+        out.copy_from_slice(&acc);
+    }
+
+    fn directional_any(&self, v: &[f64], i: usize, out: &mut [f64]) {
+        let m = out.len();
+        out.copy_from_slice(&self.by_parameter[i * m..(i + 1) * m]);
+        for (k, d) in self.states.iter().zip(self.by_state.chunks_exact(m)) {
             for (o, dk) in out.iter_mut().zip(d) {
                 *o += dk * v[*k];
             }
@@ -59,11 +91,32 @@ fn flat(m: &Mat<f64>) -> Vec<f64> {
     (0..m.nrows() * m.ncols()).map(|k| m[(k / m.ncols(), k % m.ncols())]).collect()
 }
 
-/// y += M x for a row-major r × c matrix.
+/// y += M x for a row-major r × c matrix (the few force columns unrolled: the gains G are
+/// applied four times per substep and dominate the kernel's time).
+#[inline(always)]
 fn mul_add(m: &[f64], cols: usize, x: &[f64], y: &mut [f64]) {
-    for (r, yr) in y.iter_mut().enumerate() {
-        let row = &m[r * cols..(r + 1) * cols];
-        *yr += row.iter().zip(x).map(|(a, b)| a * b).sum::<f64>();
+    match cols {
+        1 => mul_add_fixed::<1>(m, x, y),
+        2 => mul_add_fixed::<2>(m, x, y),
+        3 => mul_add_fixed::<3>(m, x, y),
+        _ => {
+            for (yr, row) in y.iter_mut().zip(m.chunks_exact(cols)) {
+                *yr += row.iter().zip(x).map(|(a, b)| a * b).sum::<f64>();
+            }
+        }
+    }
+}
+
+/// [`mul_add`] for C columns known at compile time (the same sums in the same order).
+#[inline(always)]
+fn mul_add_fixed<const C: usize>(m: &[f64], x: &[f64], y: &mut [f64]) {
+    let x: &[f64; C] = x[..C].try_into().expect("C entries");
+    for (yr, row) in y.iter_mut().zip(m.chunks_exact(C)) {
+        let mut acc = 0.0;
+        for c in 0..C {
+            acc += row[c] * x[c];
+        }
+        *yr += acc;
     }
 }
 

@@ -28,7 +28,7 @@ fn mat<D: mem::Scalar>(m: &DMatrix<D>, part: impl Fn(&D) -> f64) -> Mat<f64> {
 
 /// The forces of a structure and their derivatives.
 struct StructureForces<'a> {
-    model: &'a StructureModel,
+    laws: Vec<structure::ForceLaw>,
     p: &'a [f64],
     lifted: Vec<Dual64>,
     free: &'a [usize],
@@ -38,11 +38,11 @@ struct StructureForces<'a> {
 
 impl Forcing for StructureForces<'_> {
     fn at(&mut self, x: &[f64], with_derivatives: bool, out: &mut Forces) {
-        out.value = self.model.forces(x, self.p);
-        let m = out.value.len();
-        out.by_state.clear();
-        out.by_parameter.clear();
-        out.by_parameter.resize(self.free.len(), vec![0.0; m]);
+        let m = self.laws.len();
+        out.reset(m, self.free.len());
+        for (v, law) in out.value.iter_mut().zip(&self.laws) {
+            *v = law.force(x, self.p);
+        }
         if !with_derivatives {
             return;
         }
@@ -51,15 +51,18 @@ impl Forcing for StructureForces<'_> {
         }
         for &k in &self.states {
             self.scratch[k].eps = 1.0;
-            let f = self.model.forces(&self.scratch, &self.lifted);
+            out.states.push(k);
+            for law in &self.laws {
+                out.by_state.push(law.force(&self.scratch, &self.lifted).eps);
+            }
             self.scratch[k].eps = 0.0;
-            out.by_state.push((k, f.iter().map(|v| v.eps).collect()));
         }
         for (i, &slot) in self.free.iter().enumerate() {
             self.lifted[slot].eps = 1.0;
-            let f = self.model.forces(&self.scratch, &self.lifted);
+            for (o, law) in out.by_parameter[i * m..(i + 1) * m].iter_mut().zip(&self.laws) {
+                *o = law.force(&self.scratch, &self.lifted).eps;
+            }
             self.lifted[slot].eps = 0.0;
-            out.by_parameter[i] = f.iter().map(|v| v.eps).collect();
         }
     }
 }
@@ -70,16 +73,7 @@ impl StructureExponential {
     /// # Errors
     /// [`ModelError::UnknownParameter`] listing the valid names.
     pub fn new(model: StructureModel, free: &[&str]) -> Result<Self, ModelError> {
-        let names = model.parameter_names();
-        let free = free
-            .iter()
-            .map(|n| {
-                names.iter().position(|m| m == n).ok_or_else(|| ModelError::UnknownParameter {
-                    name: n.to_string(),
-                    valid: names.join(", "),
-                })
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let free = crate::structure::positions(&model, free)?;
         Ok(Self { model, free, max_step: DEFAULT_MAX_STEP })
     }
 
@@ -141,7 +135,7 @@ impl StructureExponential {
         }
         let n = lin.a.nrows();
         let mut forces = StructureForces {
-            model: &self.model,
+            laws: self.model.force_laws(),
             p: &all,
             lifted,
             free: &self.free,

@@ -60,6 +60,23 @@ enum Slot {
     Effect(usize, usize),
 }
 
+/// One force effect, ready to evaluate: f at a state x = [q; q̇] of `n` coordinates, with its
+/// parameters at `start` in P.
+#[derive(Clone, Debug)]
+pub struct ForceLaw {
+    effect: Effect,
+    n: usize,
+    coordinate: usize,
+    start: usize,
+}
+
+impl ForceLaw {
+    /// The force at state `x` and parameters `p` (all of the model's).
+    pub fn force<D: Scalar>(&self, x: &[D], p: &[D]) -> D {
+        self.effect.force(x, self.n, self.coordinate, &p[self.start..])
+    }
+}
+
 /// A force effect's coordinate and its force column, G = [0; −M⁻¹e_j], with the acceleration
 /// outputs' share H of it (module [`crate::effects`]).
 #[derive(Clone, Debug)]
@@ -325,8 +342,17 @@ impl StructureModel {
     /// The force effects' forces f(x) at the state x (see [`crate::effects`]) and parameters
     /// `p` (all of them, as in [`state_space`](Self::state_space)); empty for a linear model.
     pub fn forces<D: Scalar>(&self, x: &[D], p: &[D]) -> Vec<D> {
+        self.force_laws().iter().map(|law| law.force(x, p)).collect()
+    }
+
+    /// The force effects as laws to evaluate many times (in the order of the columns of
+    /// [`force_parts`](Self::force_parts)).
+    pub fn force_laws(&self) -> Vec<ForceLaw> {
         let n = self.coordinates().len();
-        self.force_effects().into_iter().map(|(e, j, start)| e.force(x, n, j, &p[start..])).collect()
+        self.force_effects()
+            .into_iter()
+            .map(|(e, j, start)| ForceLaw { effect: e.clone(), n, coordinate: j, start })
+            .collect()
     }
 
     /// The states the forces depend on (the force coordinates' displacements and velocities).

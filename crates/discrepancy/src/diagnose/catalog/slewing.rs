@@ -1,90 +1,9 @@
-//! The candidates: each catalog effect where it can act on this model, with starting values
-//! taken from the model and the data (never from a study's truth) and plausible bounds.
+//! The slewing rig's candidates: saturations, friction, drag, a cubic spring and a delay in the
+//! loop, sensor effects, and an unmodeled mode coupled to the hub.
 
+use super::{Demand, Strength, Trial, mode_seeds};
 use crate::localise::Localisation;
-use plant::{Effect, EffectKind, ModeKind, ParamId, Sensor, SlewingModel};
-
-/// A candidate to try: the effect with its starting values, the bounds of its parameters, and
-/// which parameters measure its strength (0 means "no effect").
-#[derive(Clone, Debug)]
-pub struct Trial {
-    /// The effect as it is added to the model.
-    pub effect: Effect,
-    /// Its kind.
-    pub kind: EffectKind,
-    /// The sensor it acts on, for a sensor effect.
-    pub sensor: Option<Sensor>,
-    /// The catalog name with its target, e.g. `output_offset(theta)`.
-    pub label: String,
-    /// Bounds of the effect's parameters.
-    pub bounds: Vec<(ParamId, (f64, f64))>,
-    /// How far from "no effect" the fitted effect is.
-    pub strength: Vec<Strength>,
-    /// Other starting values of the same effect: a nonlinear effect's error surface can hold
-    /// a local minimum in which the free parameters partly stand in for it, and the refit keeps
-    /// the best of its starts.
-    pub alternatives: Vec<Effect>,
-    /// The effect of the model it takes the place of: a sibling already named (a current limit
-    /// for a voltage limit, or back), which an earlier run could not tell from this one.
-    pub replaces: Option<EffectKind>,
-}
-
-impl Trial {
-    /// Adds another starting point.
-    fn or_from(mut self, effect: Effect) -> Self {
-        self.alternatives.push(effect);
-        self
-    }
-}
-
-/// A parameter that measures an effect's strength, and where the effect vanishes.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Strength {
-    /// The effect vanishes at 0 (either sign acts).
-    Nonzero(ParamId),
-    /// A limit on the loop's current or voltage: it vanishes once the limit is well above the
-    /// largest demand on it (1.5× the demand at the start, where the smooth limiter's
-    /// compression is below 0.05 %); the demand is the fitted model's.
-    Limit(ParamId, Demand),
-}
-
-/// What a limit limits.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Demand {
-    /// The armature current G K_p θ(0)/R_a at the start.
-    Current,
-    /// The amplifier's output G K_p θ(0) at the start.
-    Voltage,
-}
-
-impl Demand {
-    /// Its value for `model`.
-    pub fn of(self, model: &SlewingModel) -> f64 {
-        let c = model.constants();
-        let volts = c.amplifier_gain * c.position_gain * model.initial_state()[0].abs();
-        match self {
-            Demand::Current => volts / c.armature_resistance,
-            Demand::Voltage => volts,
-        }
-    }
-}
-
-impl Strength {
-    /// The parameter.
-    pub fn id(self) -> ParamId {
-        match self {
-            Strength::Nonzero(id) | Strength::Limit(id, _) => id,
-        }
-    }
-    /// The distance of `value` from "no effect" in units of `std_error` for the fitted `model`
-    /// (negative for a limit above where it acts).
-    pub fn z(self, value: f64, std_error: f64, model: &SlewingModel) -> f64 {
-        match self {
-            Strength::Nonzero(_) => value.abs() / std_error,
-            Strength::Limit(_, demand) => (1.5 * demand.of(model) - value) / std_error,
-        }
-    }
-}
+use plant::{Effect, EffectKind, ModeKind, ParamId, SlewingModel};
 
 /// The scales the starting values come from: the loop's own quantities at the start.
 struct Scales {
@@ -131,13 +50,38 @@ fn trial(
 ) -> Trial {
     let kind = effect.kind();
     let sensor = effect.sensor();
-    Trial { effect, kind, sensor, label, bounds, strength, alternatives: Vec::new(), replaces: None }
+    let freed = freed(&effect).into_iter().map(ParamId::name).collect();
+    let located = matches!(effect, Effect::UnmodeledMode { .. }).then(|| ParamId::ExtraModeFrequency.name());
+    let bounds = bounds.into_iter().map(|(id, b)| (id.name(), b)).collect();
+    let mut t = Trial::new(effect.into(), kind, label, bounds, strength, freed);
+    t.sensor = sensor;
+    t.located = located;
+    t
+}
+
+/// "No effect" at zero of `id`.
+fn nonzero(id: ParamId) -> Strength {
+    Strength::Nonzero(id.name())
+}
+
+/// The parameters a trial frees besides the baseline's: the effect's own, except the mass
+/// coupling of a mode coupled through stiffness or damping (held at 0).
+fn freed(effect: &Effect) -> Vec<ParamId> {
+    let stiffness_coupled = matches!(
+        effect,
+        Effect::UnmodeledMode { stiffness_coupling: Some(_), .. }
+            | Effect::UnmodeledMode { damping_coupling: Some(_), .. }
+    );
+    ParamId::of_effect(effect)
+        .into_iter()
+        .filter(|id| !(stiffness_coupled && *id == ParamId::ExtraModeCoupling))
+        .collect()
 }
 
 /// The catalog's candidates for `model` (which already carries the effects found so far), with
 /// the residual modes of `localisation` for an unmodeled mode. Effects the model has are not
 /// tried again (sensor effects: not again on the same sensor).
-pub fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
+pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
     let s = scales(model);
     let c = model.constants();
     let mut out = vec![
@@ -152,7 +96,7 @@ pub fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
             },
             "coulomb_friction".into(),
             vec![(ParamId::CoulombTorque, (0.0, s.servo_stiffness * s.theta0))],
-            vec![Strength::Nonzero(ParamId::CoulombTorque)],
+            vec![nonzero(ParamId::CoulombTorque)],
         )
         .or_from(Effect::CoulombFriction {
             torque: 0.1 * s.servo_stiffness * s.theta0,
@@ -166,7 +110,7 @@ pub fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
                 (ParamId::DragHub, (0.0, 200.0 * c.viscous_damping.max(1e-3) / s.rate)),
                 (ParamId::DragExponent, (1.2, 3.5)),
             ],
-            vec![Strength::Nonzero(ParamId::DragHub)],
+            vec![nonzero(ParamId::DragHub)],
         )
         .or_from(Effect::QuadraticDrag { hub: c.viscous_damping.max(1e-3) / s.rate, exponent: Some(2.0) }),
         trial(
@@ -178,14 +122,14 @@ pub fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
                 ParamId::CubicStiffness,
                 (-10.0 * s.servo_stiffness / s.theta0.powi(2), 10.0 * s.servo_stiffness / s.theta0.powi(2)),
             )],
-            vec![Strength::Nonzero(ParamId::CubicStiffness)],
+            vec![nonzero(ParamId::CubicStiffness)],
         )
         .or_from(Effect::CubicStiffness { coefficient: -0.05 * s.servo_stiffness / s.theta0.powi(2) }),
         trial(
             Effect::TimeDelay { delay: 0.02 },
             "time_delay".into(),
             vec![(ParamId::Delay, (1e-4, 2.0))],
-            vec![Strength::Nonzero(ParamId::Delay)],
+            vec![nonzero(ParamId::Delay)],
         ),
     ];
     for sensor in model.sensors() {
@@ -194,19 +138,19 @@ pub fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
             Effect::OutputOffset { sensor: *sensor, offset: 0.0 },
             format!("output_offset({name})"),
             vec![],
-            vec![Strength::Nonzero(ParamId::Offset(*sensor))],
+            vec![nonzero(ParamId::Offset(*sensor))],
         ));
         out.push(trial(
             Effect::SensorScale { sensor: *sensor, scale: 0.0 },
             format!("sensor_scale({name})"),
             vec![(ParamId::Scale(*sensor), (-0.9, 9.0))],
-            vec![Strength::Nonzero(ParamId::Scale(*sensor))],
+            vec![nonzero(ParamId::Scale(*sensor))],
         ));
         out.push(trial(
             Effect::SensorDrift { sensor: *sensor, rate: 0.0 },
             format!("sensor_drift({name})"),
             vec![],
-            vec![Strength::Nonzero(ParamId::Drift(*sensor))],
+            vec![nonzero(ParamId::Drift(*sensor))],
         ));
     }
     let servo = model
@@ -232,7 +176,7 @@ pub fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
             },
             format!("unmodeled_mode(inertia, {f:.2} Hz)"),
             bounds[..3].to_vec(),
-            vec![Strength::Nonzero(ParamId::ExtraModeCoupling)],
+            vec![nonzero(ParamId::ExtraModeCoupling)],
         ));
         out.push(trial(
             Effect::UnmodeledMode {
@@ -244,7 +188,7 @@ pub fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
             },
             format!("unmodeled_mode(stiffness, {f:.2} Hz)"),
             bounds[..4].to_vec(),
-            vec![Strength::Nonzero(ParamId::ExtraModeStiffnessCoupling)],
+            vec![nonzero(ParamId::ExtraModeStiffnessCoupling)],
         ));
         // Through damping: a damper between the hub and the mode. The damping matrix stays
         // positive semi-definite for c_d² ≤ d_hub·2ζω, d_hub = C_v + K_bK_t/R_a.
@@ -264,7 +208,7 @@ pub fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
             },
             format!("unmodeled_mode(damping, {f:.2} Hz)"),
             bounds,
-            vec![Strength::Nonzero(ParamId::ExtraModeDampingCoupling)],
+            vec![nonzero(ParamId::ExtraModeDampingCoupling)],
         ));
     }
     out.retain(|t| !model.effects().iter().any(|e| e.kind() == t.kind && e.sensor() == t.sensor));
@@ -281,12 +225,12 @@ pub fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
         match effect {
             Effect::VoltageSaturation { voltage_limit, sharp } => {
                 let mut t = out_of(&s, EffectKind::AmplifierSaturation);
-                t.effect = Effect::AmplifierSaturation { current_limit: voltage_limit / r, sharp };
+                t.effect = Effect::AmplifierSaturation { current_limit: voltage_limit / r, sharp }.into();
                 out.push(swap(t, EffectKind::VoltageSaturation));
             }
             Effect::AmplifierSaturation { current_limit, sharp } => {
                 let mut t = out_of(&s, EffectKind::VoltageSaturation);
-                t.effect = Effect::VoltageSaturation { voltage_limit: current_limit * r, sharp };
+                t.effect = Effect::VoltageSaturation { voltage_limit: current_limit * r, sharp }.into();
                 out.push(swap(t, EffectKind::AmplifierSaturation));
             }
             _ => {}
@@ -302,70 +246,15 @@ fn out_of(s: &Scales, kind: EffectKind) -> Trial {
             Effect::VoltageSaturation { voltage_limit: 0.5 * s.demand_voltage, sharp: false },
             "voltage_saturation".into(),
             vec![(ParamId::VoltageLimit, (0.01 * s.demand_voltage, 3.0 * s.demand_voltage))],
-            vec![Strength::Limit(ParamId::VoltageLimit, Demand::Voltage)],
+            vec![Strength::Limit(ParamId::VoltageLimit.name(), Demand::Voltage)],
         )
         .or_from(Effect::VoltageSaturation { voltage_limit: 0.9 * s.demand_voltage, sharp: false }),
         _ => trial(
             Effect::AmplifierSaturation { current_limit: 0.5 * s.demand_current, sharp: false },
             "amplifier_saturation".into(),
             vec![(ParamId::CurrentLimit, (0.01 * s.demand_current, 3.0 * s.demand_current))],
-            vec![Strength::Limit(ParamId::CurrentLimit, Demand::Current)],
+            vec![Strength::Limit(ParamId::CurrentLimit.name(), Demand::Current)],
         )
         .or_from(Effect::AmplifierSaturation { current_limit: 0.9 * s.demand_current, sharp: false }),
     }
-}
-
-/// The parameters a trial frees besides the baseline's: the effect's own, except the mass
-/// coupling of a mode coupled through stiffness or damping (held at 0).
-pub fn freed(trial: &Trial) -> Vec<ParamId> {
-    let stiffness_coupled = matches!(
-        trial.effect,
-        Effect::UnmodeledMode { stiffness_coupling: Some(_), .. }
-            | Effect::UnmodeledMode { damping_coupling: Some(_), .. }
-    );
-    ParamId::of_effect(&trial.effect)
-        .into_iter()
-        .filter(|id| !(stiffness_coupled && *id == ParamId::ExtraModeCoupling))
-        .collect()
-}
-
-/// Cycles an unmodeled mode must complete within the record.
-const MIN_CYCLES: f64 = 3.0;
-
-/// Where an unmodeled mode may be: lightly damped physical modes of the baseline's residual and
-/// of the data itself, at most two, more than 25 % from the servo mode and 10 % from each other,
-/// with the frequency within a factor 2 of the seed and 25 % clear of the servo. A mode near a
-/// modelled flexible mode is allowed: coupled to the hub, a new mode and a modelled one beat
-/// (two peaks where the model has one), which no retuning of the modelled mode reproduces;
-/// near the servo, a heavily coupled "mode" would only reshape the servo's own response.
-fn mode_seeds(servo: Option<f64>, localisation: &Localisation) -> Vec<(f64, f64, (f64, f64))> {
-    let record = localisation.windows.last().map_or(f64::INFINITY, |w| w.1);
-    let mut seeds: Vec<(f64, f64, (f64, f64))> = Vec::new();
-    for m in localisation.residual_modes.iter().chain(&localisation.data_modes) {
-        let f = m.frequency_hz;
-        let near_servo = servo.is_some_and(|s| (f / s - 1.0).abs() < 0.25);
-        if !(m.physical && m.damping_ratio < 0.2)
-            || near_servo
-            || seeds.iter().any(|s| (s.0 / f - 1.0).abs() < 0.1)
-        {
-            continue;
-        }
-        // A mode needs three cycles in the record to be told from a trend.
-        let (mut low, mut high) = (0.5 * f, 2.0 * f);
-        low = low.max(MIN_CYCLES / record);
-        if let Some(s) = servo {
-            if s < f {
-                low = low.max(1.25 * s);
-            } else {
-                high = high.min(s / 1.25);
-            }
-        }
-        if low < f && f < high {
-            seeds.push((f, m.damping_ratio, (low, high)));
-        }
-        if seeds.len() == 2 {
-            break;
-        }
-    }
-    seeds
 }

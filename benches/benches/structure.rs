@@ -1,0 +1,41 @@
+//! Benches of a structure model file (issue "any structure"): the fit of the shear building
+//! (2,001 samples, 5 free parameters, from the nominal file to the independent simulator's
+//! record), the same fit without the finite-difference check of the derivatives, and one
+//! evaluation of its expressions with their exact derivatives (A, C, x(0) and ∂/∂P over
+//! num-dual), which each Gauss–Newton iteration does once.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use mem::LinearModel;
+use models::{FitRequest, Model, StructureFitModel};
+use std::hint::black_box;
+use std::path::Path;
+
+const FREE: [&str; 5] = ["k1", "k2", "k3", "alpha", "beta"];
+
+fn fixture(name: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures").join(name)
+}
+
+fn bench_structure(c: &mut Criterion) {
+    let model = Model::load(&fixture("shear_building.ron")).unwrap();
+    let data = mem::Measurement::read_csv(&fixture("shear_building_measured.csv")).unwrap();
+    let mut group = c.benchmark_group("structure");
+    group.sample_size(20);
+    group.bench_function("fit/shear_building", |b| {
+        b.iter(|| models::fit(black_box(&model), &data, &FitRequest::new(&FREE)).unwrap())
+    });
+    let mut unchecked = FitRequest::new(&FREE);
+    unchecked.derivative_check = mem::DerivativeCheck::Skip;
+    group.bench_function("fit/shear_building_unchecked", |b| {
+        b.iter(|| models::fit(black_box(&model), &data, &unchecked).unwrap())
+    });
+    let structure = model.as_structure().unwrap().clone();
+    let exact = mem::Exact(StructureFitModel::new(structure, &FREE).unwrap());
+    let p: Vec<f64> = FREE.iter().map(|n| model.value(n).unwrap()).collect();
+    group
+        .bench_function("expressions/shear_building", |b| b.iter(|| exact.linearize(black_box(&p)).unwrap()));
+    group.finish();
+}
+
+criterion_group!(benches, bench_structure);
+criterion_main!(benches);

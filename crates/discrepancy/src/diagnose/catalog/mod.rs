@@ -1,0 +1,179 @@
+//! The candidates: each catalog effect where it can act on this model, with starting values
+//! taken from the model and the data (never from a study's truth) and plausible bounds — for
+//! the slewing rig ([`slewing`]) and for any structure ([`structure`]).
+
+mod slewing;
+mod structure;
+
+use crate::localise::Localisation;
+use models::{Model, ModelEffect};
+use plant::{EffectKind, Sensor, SlewingModel};
+
+/// A candidate to try: the effect with its starting values, the bounds of its parameters, and
+/// which parameters measure its strength (0 means "no effect").
+#[derive(Clone, Debug)]
+pub struct Trial {
+    /// The effect as it is added to the model.
+    pub effect: ModelEffect,
+    /// Its kind (the catalog's closed set, shared by both kinds of model).
+    pub kind: EffectKind,
+    /// The slewing rig's sensor it acts on, for a sensor effect there.
+    pub sensor: Option<Sensor>,
+    /// The catalog name with its target, e.g. `output_offset(theta)`.
+    pub label: String,
+    /// Bounds of the effect's parameters, by name.
+    pub bounds: Vec<(String, (f64, f64))>,
+    /// How far from "no effect" the fitted effect is.
+    pub strength: Vec<Strength>,
+    /// The parameters the trial frees besides the baseline's.
+    pub freed: Vec<String>,
+    /// A resonance's frequency parameter, which the data must locate inside its range (a
+    /// refit that ends on a bound of it found no mode there).
+    pub located: Option<String>,
+    /// Other starting values of the same effect: a nonlinear effect's error surface can hold
+    /// a local minimum in which the free parameters partly stand in for it, and the refit keeps
+    /// the best of its starts.
+    pub alternatives: Vec<ModelEffect>,
+    /// The effect of the model it takes the place of: a sibling already named (a current limit
+    /// for a voltage limit, or back), which an earlier run could not tell from this one.
+    pub replaces: Option<EffectKind>,
+}
+
+impl Trial {
+    /// A trial of `effect`, freeing `freed`.
+    fn new(
+        effect: ModelEffect,
+        kind: EffectKind,
+        label: String,
+        bounds: Vec<(String, (f64, f64))>,
+        strength: Vec<Strength>,
+        freed: Vec<String>,
+    ) -> Self {
+        Trial {
+            effect,
+            kind,
+            sensor: None,
+            label,
+            bounds,
+            strength,
+            freed,
+            located: None,
+            alternatives: Vec::new(),
+            replaces: None,
+        }
+    }
+
+    /// Adds another starting point.
+    fn or_from(mut self, effect: impl Into<ModelEffect>) -> Self {
+        self.alternatives.push(effect.into());
+        self
+    }
+}
+
+/// A parameter that measures an effect's strength, and where the effect vanishes.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Strength {
+    /// The effect vanishes at 0 (either sign acts).
+    Nonzero(String),
+    /// A limit on the loop's current or voltage: it vanishes once the limit is well above the
+    /// largest demand on it (1.5× the demand at the start, where the smooth limiter's
+    /// compression is below 0.05 %); the demand is the fitted model's.
+    Limit(String, Demand),
+    /// Several parameters of which any one acts (an unmodeled mode's amplitude in each
+    /// output): the effect is resolved when the best resolved of them is.
+    Largest(Vec<String>),
+}
+
+/// What a limit limits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Demand {
+    /// The armature current G K_p θ(0)/R_a at the start.
+    Current,
+    /// The amplifier's output G K_p θ(0) at the start.
+    Voltage,
+}
+
+impl Demand {
+    /// Its value for `model`.
+    pub fn of(self, model: &SlewingModel) -> f64 {
+        let c = model.constants();
+        let volts = c.amplifier_gain * c.position_gain * model.initial_state()[0].abs();
+        match self {
+            Demand::Current => volts / c.armature_resistance,
+            Demand::Voltage => volts,
+        }
+    }
+}
+
+impl Strength {
+    /// The parameters it is measured by.
+    pub fn names(&self) -> Vec<&str> {
+        match self {
+            Strength::Nonzero(n) | Strength::Limit(n, _) => vec![n.as_str()],
+            Strength::Largest(names) => names.iter().map(String::as_str).collect(),
+        }
+    }
+
+    /// The distance of `value` (of parameter `name`) from "no effect" in units of `std_error`
+    /// for the fitted `model` (negative for a limit above where it acts).
+    pub fn z(&self, value: f64, std_error: f64, model: &Model) -> f64 {
+        match self {
+            Strength::Nonzero(_) | Strength::Largest(_) => value.abs() / std_error,
+            Strength::Limit(_, demand) => match model.as_slewing() {
+                Some(m) => (1.5 * demand.of(m) - value) / std_error,
+                None => 0.0,
+            },
+        }
+    }
+}
+
+/// The catalog's candidates for `model` (which already carries the effects found so far), with
+/// the residual modes of `localisation` for an unmodeled mode and the reference residual's RMS
+/// per output for its starting amplitudes. Effects the model has are not tried again.
+pub fn trials(model: &Model, localisation: &Localisation, residual_rms: &[f64]) -> Vec<Trial> {
+    match model {
+        Model::Slewing(m) => slewing::trials(m, localisation),
+        Model::Structure(m) => structure::trials(m, localisation, residual_rms),
+    }
+}
+
+/// Cycles an unmodeled mode must complete within the record.
+const MIN_CYCLES: f64 = 3.0;
+
+/// Where an unmodeled mode may be: lightly damped physical modes of the baseline's residual and
+/// of the data itself, at most two, more than 25 % from the servo mode and 10 % from each other,
+/// with the frequency within a factor 2 of the seed and 25 % clear of the servo. A mode near a
+/// modelled flexible mode is allowed: coupled to the hub, a new mode and a modelled one beat
+/// (two peaks where the model has one), which no retuning of the modelled mode reproduces;
+/// near the servo, a heavily coupled "mode" would only reshape the servo's own response.
+fn mode_seeds(servo: Option<f64>, localisation: &Localisation) -> Vec<(f64, f64, (f64, f64))> {
+    let record = localisation.windows.last().map_or(f64::INFINITY, |w| w.1);
+    let mut seeds: Vec<(f64, f64, (f64, f64))> = Vec::new();
+    for m in localisation.residual_modes.iter().chain(&localisation.data_modes) {
+        let f = m.frequency_hz;
+        let near_servo = servo.is_some_and(|s| (f / s - 1.0).abs() < 0.25);
+        if !(m.physical && m.damping_ratio < 0.2)
+            || near_servo
+            || seeds.iter().any(|s| (s.0 / f - 1.0).abs() < 0.1)
+        {
+            continue;
+        }
+        // A mode needs three cycles in the record to be told from a trend.
+        let (mut low, mut high) = (0.5 * f, 2.0 * f);
+        low = low.max(MIN_CYCLES / record);
+        if let Some(s) = servo {
+            if s < f {
+                low = low.max(1.25 * s);
+            } else {
+                high = high.min(s / 1.25);
+            }
+        }
+        if low < f && f < high {
+            seeds.push((f, m.damping_ratio, (low, high)));
+        }
+        if seeds.len() == 2 {
+            break;
+        }
+    }
+    seeds
+}

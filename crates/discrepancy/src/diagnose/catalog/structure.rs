@@ -1,0 +1,189 @@
+//! A structure's candidates: sensor offset, scale and drift on every output; dry friction,
+//! drag and a cubic spring at every coordinate of a second-order model; an unmodeled mode
+//! where the residual or the data hold one. Starting values and bounds come from the model's
+//! own stiffness, damping and response (its peak displacement and velocity per coordinate).
+
+use super::{Strength, Trial, mode_seeds};
+use crate::localise::Localisation;
+use faer::Mat;
+use plant::EffectKind;
+use structure::{Effect, StructureModel};
+
+/// The catalog kind of a structure effect.
+pub(super) fn kind(effect: &Effect) -> EffectKind {
+    match effect {
+        Effect::OutputOffset { .. } => EffectKind::OutputOffset,
+        Effect::SensorScale { .. } => EffectKind::SensorScale,
+        Effect::SensorDrift { .. } => EffectKind::SensorDrift,
+        Effect::SensorQuantization { .. } => EffectKind::SensorQuantization,
+        Effect::DryFriction { .. } => EffectKind::CoulombFriction,
+        Effect::Drag { .. } => EffectKind::QuadraticDrag,
+        Effect::CubicStiffness { .. } => EffectKind::CubicStiffness,
+        Effect::UnmodeledMode { .. } => EffectKind::UnmodeledMode,
+    }
+}
+
+/// Peak |q_j| and |q̇_j| of the model's free decay over two periods of its lowest mode (the
+/// exponential of A over one short step, applied step by step).
+fn peaks(model: &StructureModel) -> Option<Vec<(f64, f64)>> {
+    let n = model.coordinates().len();
+    let space = model.state_space::<f64>(&model.values()).ok()?;
+    let modes = model.modes().ok()?;
+    let (low, high) = (modes.first()?.frequency_hz, modes.last()?.frequency_hz);
+    if !(low > 0.0 && high.is_finite()) {
+        return None;
+    }
+    let h = 1.0 / (20.0 * high);
+    let steps = ((2.0 / low) / h).ceil().min(1e5) as usize;
+    let big = space.a.nrows();
+    let a = Mat::from_fn(big, big, |r, c| space.a[(r, c)] * h);
+    let phi = expm::expm(a.as_ref()).ok()?;
+    let mut x: Vec<f64> = space.x0.iter().copied().collect();
+    let mut peak = vec![(0.0f64, 0.0f64); n];
+    for _ in 0..steps {
+        for (j, p) in peak.iter_mut().enumerate() {
+            p.0 = p.0.max(x[j].abs());
+            p.1 = p.1.max(x[n + j].abs());
+        }
+        x = (0..big).map(|r| (0..big).map(|c| phi[(r, c)] * x[c]).sum()).collect();
+    }
+    peak.iter().all(|(q, v)| q.is_finite() && v.is_finite()).then_some(peak)
+}
+
+fn trial(
+    effect: Effect,
+    label: String,
+    bounds: Vec<(String, (f64, f64))>,
+    strength: Vec<Strength>,
+    outputs: &[String],
+) -> Trial {
+    let kind = kind(&effect);
+    let freed = effect.parameters(outputs).into_iter().map(|(n, _)| n).collect();
+    Trial::new(effect.into(), kind, label, bounds, strength, freed)
+}
+
+/// The catalog's candidates for a structure (see the module docs).
+pub(super) fn trials(
+    model: &StructureModel,
+    localisation: &Localisation,
+    residual_rms: &[f64],
+) -> Vec<Trial> {
+    let outputs = model.output_names();
+    let mut out = Vec::new();
+    for name in &outputs {
+        out.push(trial(
+            Effect::OutputOffset { output: name.clone(), offset: 0.0 },
+            format!("output_offset({name})"),
+            vec![],
+            vec![Strength::Nonzero(format!("offset_{name}"))],
+            &outputs,
+        ));
+        out.push(trial(
+            Effect::SensorScale { output: name.clone(), scale: 0.0 },
+            format!("sensor_scale({name})"),
+            vec![(format!("scale_{name}"), (-0.9, 9.0))],
+            vec![Strength::Nonzero(format!("scale_{name}"))],
+            &outputs,
+        ));
+        out.push(trial(
+            Effect::SensorDrift { output: name.clone(), rate: 0.0 },
+            format!("sensor_drift({name})"),
+            vec![],
+            vec![Strength::Nonzero(format!("drift_{name}"))],
+            &outputs,
+        ));
+    }
+    let matrices = model.second_order::<f64>(&model.values()).ok().flatten();
+    if let (Some(so), Some(peaks)) = (matrices, peaks(model)) {
+        for (j, c) in model.coordinates().iter().enumerate() {
+            let (q, v) = peaks[j];
+            let (m, k) = (so.m[(j, j)], so.k[(j, j)]);
+            if !(q > 0.0 && v > 0.0 && m > 0.0 && k > 0.0) {
+                continue;
+            }
+            // The viscous force at the peak rate (at least that of 1 % critical damping).
+            let viscous = so.d[(j, j)].max(0.02 * (k * m).sqrt()) * v;
+            out.push(
+                trial(
+                    // Smoothed over 1 % of the peak rate: sharp for the motion, smooth enough
+                    // for the integrator's substep at the bounds' largest force.
+                    Effect::DryFriction {
+                        coordinate: c.clone(),
+                        force: 0.02 * k * q,
+                        smoothing_velocity: 0.01 * v,
+                    },
+                    format!("coulomb_friction({c})"),
+                    vec![(format!("friction_{c}"), (0.0, 0.3 * k * q))],
+                    vec![Strength::Nonzero(format!("friction_{c}"))],
+                    &outputs,
+                )
+                .or_from(Effect::DryFriction {
+                    coordinate: c.clone(),
+                    force: 0.1 * k * q,
+                    smoothing_velocity: 0.01 * v,
+                }),
+            );
+            out.push(
+                trial(
+                    // Drag equal to a fifth of the viscous force at the peak rate.
+                    Effect::Drag {
+                        coordinate: c.clone(),
+                        coefficient: 0.2 * viscous / (v * v),
+                        exponent: 2.0,
+                    },
+                    format!("quadratic_drag({c})"),
+                    vec![
+                        (format!("drag_{c}"), (0.0, 200.0 * viscous / (v * v))),
+                        (format!("drag_exponent_{c}"), (1.2, 3.5)),
+                    ],
+                    vec![Strength::Nonzero(format!("drag_{c}"))],
+                    &outputs,
+                )
+                .or_from(Effect::Drag {
+                    coordinate: c.clone(),
+                    coefficient: viscous / (v * v),
+                    exponent: 2.0,
+                }),
+            );
+            out.push(
+                trial(
+                    // Hardening and softening starts (the stiffnesses can take up part of a
+                    // cubic from either side).
+                    Effect::CubicStiffness { coordinate: c.clone(), coefficient: 0.05 * k / (q * q) },
+                    format!("cubic_stiffness({c})"),
+                    vec![(format!("cubic_{c}"), (-10.0 * k / (q * q), 10.0 * k / (q * q)))],
+                    vec![Strength::Nonzero(format!("cubic_{c}"))],
+                    &outputs,
+                )
+                .or_from(Effect::CubicStiffness { coordinate: c.clone(), coefficient: -0.05 * k / (q * q) }),
+            );
+        }
+    }
+    for (f, zeta, (low, high)) in mode_seeds(None, localisation) {
+        let amplitudes: Vec<(f64, f64)> = residual_rms.iter().map(|r| (*r, 0.0)).collect();
+        let mut t = trial(
+            Effect::UnmodeledMode { frequency_hz: f, damping_ratio: zeta.clamp(0.005, 0.15), amplitudes },
+            format!("unmodeled_mode({f:.2} Hz)"),
+            vec![("mode_frequency".into(), (low, high)), ("mode_damping".into(), (0.0, 0.2))],
+            vec![Strength::Largest(
+                outputs
+                    .iter()
+                    .map(|o| format!("mode_cos_{o}"))
+                    .chain(outputs.iter().map(|o| format!("mode_sin_{o}")))
+                    .collect(),
+            )],
+            &outputs,
+        );
+        t.located = Some("mode_frequency".into());
+        out.push(t);
+    }
+    // Effects the model has are not tried again (a second mode is not offered either).
+    out.retain(|t| match &t.effect {
+        models::ModelEffect::Structure(e) => !model.effects().iter().any(|have| {
+            have.kind() == e.kind()
+                && (have.target() == e.target() || e.kind() == structure::EffectKind::UnmodeledMode)
+        }),
+        models::ModelEffect::Slewing(_) => false,
+    });
+    out
+}
