@@ -282,8 +282,26 @@ pub fn secondary_mismatch_parameters(model: &Model, free: &[String]) -> Vec<Stri
             .map(|(id, _)| id.name())
             .filter(|n| !free.contains(n))
             .collect(),
-        Model::Structure(_) => Vec::new(),
+        Model::Structure(m) => structure_fixed(m).into_iter().map(|(n, _)| n).filter(|n| !free.contains(n)).collect(),
     }
+}
+
+/// A structure file's fixed, nonzero parameters with ±30 % ranges: for a structure, the
+/// secondary mismatch parameters are what its file fixes (masses, say), freed one at a time
+/// and kept only where the data determine them.
+fn structure_fixed(model: &structure::StructureModel) -> Vec<(String, (f64, f64))> {
+    let free = model.free();
+    let effects: Vec<String> =
+        model.effects().iter().flat_map(|e| e.parameters(&model.output_names())).map(|(n, _)| n).collect();
+    model
+        .parameter_names()
+        .into_iter()
+        .filter(|n| !free.contains(n) && !effects.contains(n))
+        .filter_map(|n| {
+            let v = model.value(&n).ok()?;
+            (v != 0.0 && v.is_finite()).then(|| (n, if v > 0.0 { (0.7 * v, 1.3 * v) } else { (1.3 * v, 0.7 * v) }))
+        })
+        .collect()
 }
 
 /// Whether a fit determines parameter `name`: a standard error below half its value's size,
@@ -295,12 +313,17 @@ pub fn determined(outcome: &FitOutcome, name: &str) -> bool {
     })
 }
 
-/// `model` with the mismatch parameters' ranges (a structure's are its file's).
+/// `model` with the mismatch parameters' ranges.
 pub fn with_mismatch_bounds(mut model: Model) -> Model {
     if let Some(m) = model.as_slewing_mut() {
         for (id, b) in mismatch_ids(m).into_iter().chain(secondary_mismatch_ids(m)) {
             m.set_bounds(id, b);
         }
+    }
+    let fixed = model.as_structure().map(structure_fixed).unwrap_or_default();
+    for (name, b) in fixed {
+        // Inside its own range by construction.
+        let _ = model.set_bounds(&name, b);
     }
     model
 }

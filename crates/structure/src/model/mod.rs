@@ -238,15 +238,27 @@ impl StructureModel {
         }
     }
 
-    /// Sets the bounds of an effect's parameter (a file's parameter keeps the file's bounds).
+    /// Sets the (lower, upper) bounds fits keep a parameter within (in memory: the file written
+    /// back keeps its own bounds).
     ///
     /// # Errors
-    /// [`StructureError::UnknownParameter`] for a name that is not an effect's parameter.
+    /// [`StructureError::UnknownParameter`]; [`StructureError::OutOfBounds`] if the current
+    /// value lies outside the new bounds.
     pub fn set_bounds(&mut self, name: &str, bounds: (f64, f64)) -> Result<(), StructureError> {
+        let value = self.value(name)?;
+        if !(bounds.0..=bounds.1).contains(&value) {
+            return Err(StructureError::OutOfBounds {
+                name: name.to_string(),
+                value,
+                lower: bounds.0,
+                upper: bounds.1,
+            });
+        }
         match self.slot(name)? {
-            Slot::File(_) => Err(StructureError::InvalidEffect {
-                reason: format!("`{name}` is the file's parameter; its bounds are the file's"),
-            }),
+            Slot::File(i) => {
+                self.checked.params[i].bounds = Some(bounds);
+                Ok(())
+            }
             Slot::Effect(..) => {
                 self.effect_bounds.retain(|(n, _)| n != name);
                 self.effect_bounds.push((name.to_string(), bounds));

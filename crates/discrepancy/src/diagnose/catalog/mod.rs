@@ -141,17 +141,20 @@ pub fn trials(model: &Model, localisation: &Localisation, residual_rms: &[f64]) 
 const MIN_CYCLES: f64 = 3.0;
 
 /// Where an unmodeled mode may be: lightly damped physical modes of the baseline's residual and
-/// of the data itself, at most two, more than 25 % from the servo mode and 10 % from each other,
-/// with the frequency within a factor 2 of the seed and 25 % clear of the servo. A mode near a
-/// modelled flexible mode is allowed: coupled to the hub, a new mode and a modelled one beat
-/// (two peaks where the model has one), which no retuning of the modelled mode reproduces;
-/// near the servo, a heavily coupled "mode" would only reshape the servo's own response.
-fn mode_seeds(servo: Option<f64>, localisation: &Localisation) -> Vec<(f64, f64, (f64, f64))> {
+/// of the data itself, at most two, more than `margin` (relative) from each frequency in `avoid`
+/// and 10 % from each other, with the frequency within a factor 2 of the seed and `margin` clear
+/// of the frequencies to avoid. The slewing rig avoids only its servo mode (25 %): a mode near a
+/// modelled flexible mode is allowed there, because coupled to the hub a new mode and a modelled
+/// one beat (two peaks where the model has one), which no retuning of the modelled mode
+/// reproduces, while near the servo a heavily coupled "mode" would only reshape the servo's own
+/// response. A structure's extra mode adds to the outputs without coupling, so near any of the
+/// modelled modes it would only stand in for a change of that mode: it avoids them all (15 %).
+fn mode_seeds(avoid: &[f64], margin: f64, localisation: &Localisation) -> Vec<(f64, f64, (f64, f64))> {
     let record = localisation.windows.last().map_or(f64::INFINITY, |w| w.1);
     let mut seeds: Vec<(f64, f64, (f64, f64))> = Vec::new();
     for m in localisation.residual_modes.iter().chain(&localisation.data_modes) {
         let f = m.frequency_hz;
-        let near_servo = servo.is_some_and(|s| (f / s - 1.0).abs() < 0.25);
+        let near_servo = avoid.iter().any(|s| (f / s - 1.0).abs() < margin);
         if !(m.physical && m.damping_ratio < 0.2)
             || near_servo
             || seeds.iter().any(|s| (s.0 / f - 1.0).abs() < 0.1)
@@ -161,11 +164,11 @@ fn mode_seeds(servo: Option<f64>, localisation: &Localisation) -> Vec<(f64, f64,
         // A mode needs three cycles in the record to be told from a trend.
         let (mut low, mut high) = (0.5 * f, 2.0 * f);
         low = low.max(MIN_CYCLES / record);
-        if let Some(s) = servo {
+        for &s in avoid {
             if s < f {
-                low = low.max(1.25 * s);
+                low = low.max((1.0 + margin) * s);
             } else {
-                high = high.min(s / 1.25);
+                high = high.min(s / (1.0 + margin));
             }
         }
         if low < f && f < high {

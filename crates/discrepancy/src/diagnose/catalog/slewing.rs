@@ -158,7 +158,7 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
         .ok()
         .and_then(|rows| rows.into_iter().find(|r| r.kind == ModeKind::Servo))
         .map(|r| r.frequency_hz);
-    for (f, zeta, (low, high)) in mode_seeds(servo, localisation) {
+    for (f, zeta, (low, high)) in mode_seeds(&servo.into_iter().collect::<Vec<_>>(), 0.25, localisation) {
         let damping = zeta.clamp(0.005, 0.15);
         let bounds = vec![
             (ParamId::ExtraModeFrequency, (low, high)),

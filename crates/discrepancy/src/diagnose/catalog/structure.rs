@@ -159,7 +159,11 @@ pub(super) fn trials(
             );
         }
     }
-    for (f, zeta, (low, high)) in mode_seeds(None, localisation) {
+    // A mode within 15 % of a modelled one is not told from a change of that mode (its
+    // frequency or damping, or their dependence on amplitude): seeds there are not tried, and
+    // a seed's range stops 15 % short of the modelled modes around it.
+    let modelled: Vec<f64> = model.modes().map(|m| m.iter().map(|r| r.frequency_hz).collect()).unwrap_or_default();
+    for (f, zeta, (low, high)) in mode_seeds(&modelled, 0.15, localisation) {
         let amplitudes: Vec<(f64, f64)> = residual_rms.iter().map(|r| (*r, 0.0)).collect();
         let mut t = trial(
             Effect::UnmodeledMode { frequency_hz: f, damping_ratio: zeta.clamp(0.005, 0.15), amplitudes },

@@ -1,0 +1,239 @@
+#!/usr/bin/env python3
+"""Truth generator for `memid diagnose` on a structure model file (the 3-storey shear building).
+
+Shares no code with memid (numpy + scipy only). Every case is a 10 s free decay at 200 Hz of a
+shear building M q'' + D q' + K q = f(q, q') from q(0) = [0.01, 0.02, 0.03] m at rest, measured
+as q1 and q3 (the columns of fixtures/shear_building.ron, which is the model every case is
+diagnosed with, k1, k2, k3, alpha, beta free). The truth's parameters are drawn around the
+independent fixture's truth (k_i x U(0.85, 1.15), alpha and beta x U(0.7, 1.3)); noise is 0.5-2 %
+of each column's RMS, white or AR(1).
+
+Families (as studies/diagnose, so that its score.py scores them):
+  A  catalog physics in forms other than the candidates', strengths weak / medium / strong:
+     cubic (k3 q^3 + k5 q^5 at a floor), friction (F tanh(v / v_s) at a floor), drag
+     (c |v|^e sign v, e in 1.5-2.5, at a floor), offset / scale / drift of q1 or q3,
+     quantization of q1 or q3 (noise before or after the quantizer), and a mode the model lacks
+     (an appendage on a spring and damper at a floor, 15-25 Hz, a fourth degree of freedom)
+  B  nulls: white or AR(1) noise (rho up to 0.9), and mismatches the free parameters cannot absorb
+     (modal instead of Rayleigh damping, floor 2's mass 15 % off)
+  C  physics outside the catalog: a storey stiffness degrading during the record, and pounding of
+     the roof against a stop (a one-sided spring)
+
+usage:  python3 studies/structure/generate.py --out DIR --set dev|held
+"""
+import argparse
+import json
+import os
+import shutil
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+H, N = 0.005, 2001
+Q0 = np.array([0.01, 0.02, 0.03])
+TRUTH = dict(k=(2.62e6, 2.16e6, 1.96e6), alpha=0.42, beta=1.18e-3)
+FREE = "k1,k2,k3,alpha,beta"
+
+
+def matrices(rng, mass2=1000.0, modal=None):
+    k = np.array(TRUTH["k"]) * rng.uniform(0.85, 1.15, 3)
+    alpha = TRUTH["alpha"] * rng.uniform(0.7, 1.3)
+    beta = TRUTH["beta"] * rng.uniform(0.7, 1.3)
+    m = np.array([1000.0, mass2, 1000.0])
+    K = np.array([[k[0] + k[1], -k[1], 0.0], [-k[1], k[1] + k[2], -k[2]], [0.0, -k[2], k[2]]])
+    M = np.diag(m)
+    if modal is None:
+        D = alpha * M + beta * K
+    else:
+        w2, phi = np.linalg.eigh(np.linalg.inv(np.sqrt(M)) @ K @ np.linalg.inv(np.sqrt(M)))
+        phi = np.linalg.inv(np.sqrt(M)) @ phi  # mass-normalised
+        D = M @ phi @ np.diag(2 * np.array(modal) * np.sqrt(w2)) @ phi.T @ M
+    return M, K, D
+
+
+def simulate(M, K, D, force=None, extra=None):
+    """force(q, v, t) -> generalised force on the floors; extra: an appendage (j, m, f, zeta)."""
+    Minv = np.linalg.inv(M)
+
+    def rhs(t, x):
+        q, v = x[:3], x[3:6]
+        f = -K @ q - D @ v
+        if force is not None:
+            f = f + force(q, v, t)
+        out = np.zeros_like(x)
+        out[:3] = v
+        if extra is not None:
+            j, ma, fa, za = extra
+            ka, ca = ma * (2 * np.pi * fa) ** 2, 2 * za * ma * 2 * np.pi * fa
+            c = ka * (x[6] - q[j]) + ca * (x[7] - v[j])
+            f[j] += c
+            out[6], out[7] = x[7], -c / ma
+        out[3:6] = Minv @ f
+        return out
+
+    x0 = np.zeros(8 if extra is not None else 6)
+    x0[:3] = Q0
+    if extra is not None:
+        x0[6] = Q0[extra[0]]
+    t = np.arange(N) * H
+    sol = solve_ivp(rhs, (0.0, t[-1]), x0, method="DOP853", t_eval=t, rtol=1e-9, atol=1e-12, max_step=H)
+    if not sol.success:
+        raise RuntimeError(sol.message)
+    return sol.y[:6].T  # (N, 6): q, v
+
+
+def peaks(M, K, D):
+    x = simulate(M, K, D)
+    return np.max(np.abs(x[:, :3]), axis=0), np.max(np.abs(x[:, 3:]), axis=0)
+
+
+def noise(rng, clean, level, rho):
+    e = rng.standard_normal(clean.shape)
+    if rho:
+        for k in range(1, len(e)):
+            e[k] = rho * e[k - 1] + np.sqrt(1 - rho * rho) * e[k]
+    rms = np.sqrt(np.mean((clean - clean.mean(axis=0)) ** 2, axis=0))
+    return level * rms * e, level * rms
+
+
+LEVELS = {"weak": 0, "medium": 1, "strong": 2}
+
+
+def case_a(rng, kind, strength):
+    s = LEVELS[strength]
+    M, K, D = matrices(rng)
+    qpk, vpk = peaks(M, K, D)
+    j = int(rng.integers(0, 3))
+    o = int(rng.integers(0, 2))  # which output a sensor effect is on
+    out_name = ["q1", "q3"][o]
+    level, rho = rng.uniform(0.005, 0.02), [0.0, 0.0, 0.5][int(rng.integers(0, 3))]
+    force, extra, post, truth = None, None, None, {}
+    if kind == "cubic":
+        r = [0.02, 0.05, 0.15][s] * float(rng.choice([-1, 1]))  # nonlinear / linear storey force at the peak
+        k = K[j, j] * r / qpk[j] ** 2
+        k3, k5 = 0.7 * k, 0.3 * k / qpk[j] ** 2
+        force = lambda q, v, t: -np.eye(3)[j] * (k3 * q[j] ** 3 + k5 * q[j] ** 5)
+        name, truth = "cubic_stiffness", dict(coordinate=f"q{j + 1}", k3=k3, k5=k5)
+    elif kind == "friction":
+        F = [0.005, 0.015, 0.04][s] * K[j, j] * qpk[j]
+        vs = 0.005 * vpk[j]
+        force = lambda q, v, t: -np.eye(3)[j] * F * np.tanh(v[j] / vs)
+        name, truth = "coulomb_friction", dict(coordinate=f"q{j + 1}", force=F, v_s=vs)
+    elif kind == "drag":
+        e = rng.uniform(1.5, 2.5)
+        c = [0.1, 0.3, 1.0][s] * D[j, j] * vpk[j] / vpk[j] ** e
+        force = lambda q, v, t: -np.eye(3)[j] * c * np.abs(v[j]) ** e * np.sign(v[j])
+        name, truth = "quadratic_drag", dict(coordinate=f"q{j + 1}", c=c, exponent=e)
+    elif kind == "appendage":
+        ratio = [0.01, 0.025, 0.05][s]
+        extra = (j, ratio * 1000.0, rng.uniform(15, 25), rng.uniform(0.005, 0.02))
+        name, truth = "unmodeled_mode", dict(coordinate=f"q{j + 1}", mass=extra[1], f=extra[2], zeta=extra[3])
+    else:
+        name = {"offset": "output_offset", "scale": "sensor_scale", "drift": "sensor_drift",
+                "quantization": "sensor_quantization"}[kind]
+        truth = dict(sensor=out_name)
+    x = simulate(M, K, D, force, extra)
+    clean = x[:, [0, 2]].copy()
+    e, sigma = noise(rng, clean, level, rho)
+    y = clean + e
+    t = np.arange(N) * H
+    if kind == "offset":
+        b = [0.15, 0.4, 1.0][s] * sigma[o] * rng.choice([-1, 1])
+        y[:, o] += b
+        truth["offset"] = b
+    elif kind == "scale":
+        sc = [0.005, 0.01, 0.03][s] * rng.choice([-1, 1])
+        y[:, o] = (1 + sc) * clean[:, o] + e[:, o]
+        truth["scale"] = sc
+    elif kind == "drift":
+        d = [0.3, 1.0, 3.0][s] * sigma[o] / t[-1] * rng.choice([-1, 1])
+        y[:, o] += d * t
+        truth["rate"] = d
+    elif kind == "quantization":
+        step = [1.0, 2.0, 4.0][s] * sigma[o]
+        before = bool(rng.integers(0, 2))
+        y[:, o] = step * np.round((clean[:, o] + e[:, o]) / step) if before else step * np.round(clean[:, o] / step) + e[:, o]
+        truth.update(step=step, noise_before_quantizer=before)
+    truth.update(effect=name)
+    return y, name, dict(level=level, rho=rho, effects=[truth])
+
+
+def case_b(rng, kind):
+    rho = 0.0
+    if kind == "white":
+        M, K, D = matrices(rng)
+    elif kind == "coloured":
+        M, K, D = matrices(rng)
+        rho = float(rng.choice([0.5, 0.8, 0.9]))
+    elif kind == "modal_damping":
+        M, K, D = matrices(rng, modal=list(rng.uniform(0.015, 0.05, 3)))
+    else:  # mass
+        M, K, D = matrices(rng, mass2=1000.0 * float(rng.choice([0.85, 1.15])))
+    x = simulate(M, K, D)
+    clean = x[:, [0, 2]].copy()
+    level = rng.uniform(0.005, 0.02)
+    e, _ = noise(rng, clean, level, rho)
+    return clean + e, dict(level=level, rho=rho, null_kind=kind, effects=[])
+
+
+def case_c(rng, kind, strength):
+    s = LEVELS[strength]
+    M, K, D = matrices(rng)
+    qpk, vpk = peaks(M, K, D)
+    if kind == "degrading":
+        loss = [0.02, 0.05, 0.1][s]  # storey 1 loses this share of its stiffness over the record
+        k1 = K[0, 0] + K[0, 1]  # the storey-1 spring (K[0,1] = -k2)
+        force = lambda q, v, t: np.array([loss * k1 * t / 10.0 * q[0], 0.0, 0.0])
+        truth = dict(kind="stiffness_degradation", loss=loss)
+    else:  # pounding: the roof hits a stop at 60-80 % of its peak
+        gap = [0.8, 0.7, 0.6][s] * qpk[2]
+        kstop = 5.0 * K[2, 2]
+        force = lambda q, v, t: np.array([0.0, 0.0, -kstop * max(q[2] - gap, 0.0)])
+        truth = dict(kind="pounding", gap=gap, k_stop=kstop)
+    x = simulate(M, K, D, force)
+    clean = x[:, [0, 2]].copy()
+    level = rng.uniform(0.005, 0.02)
+    e, _ = noise(rng, clean, level, 0.0)
+    truth.update(level=level, effects=[])
+    return clean + e, truth
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--set", choices=["dev", "held"], default="dev")
+    opt = ap.parse_args()
+    rng = np.random.default_rng(20261123 if opt.set == "dev" else 20261124)
+    os.makedirs(os.path.join(opt.out, "data"), exist_ok=True)
+    here = os.path.dirname(os.path.abspath(__file__))
+    shutil.copy(os.path.join(here, "..", "..", "fixtures", "shear_building.ron"), os.path.join(opt.out, "shear_building.ron"))
+    cases = []
+
+    def write(name, y, family, effect, accept, strength, truth):
+        path = os.path.join("data", name + ".csv")
+        with open(os.path.join(opt.out, path), "w") as f:
+            f.write("t,q1,q3\n")
+            for k in range(N):
+                f.write(f"{k * H!r},{float(y[k, 0])!r},{float(y[k, 1])!r}\n")
+        cases.append(dict(name=name, model="shear_building.ron", data=path, free=FREE, args=[], family=family,
+                          effect=effect, accept=accept, strength=strength, truth=truth))
+
+    for kind in ["cubic", "friction", "drag", "offset", "scale", "drift", "quantization", "appendage"]:
+        for strength in LEVELS:
+            for seed in range(2):
+                y, name, truth = case_a(rng, kind, strength)
+                write(f"A_{kind}_{strength}_s{seed}", y, "A", name, [name], strength, truth)
+    for kind in ["white"] * 8 + ["coloured"] * 10 + ["modal_damping"] * 6 + ["mass"] * 6:
+        y, truth = case_b(rng, kind)
+        write(f"B_{kind}_{len(cases)}", y, "B", "none", ["none"], "-", truth)
+    for kind in ["degrading", "pounding"]:
+        for strength in LEVELS:
+            for seed in range(2):
+                y, truth = case_c(rng, kind, strength)
+                write(f"C_{kind}_{strength}_s{seed}", y, "C", "none", ["none"], strength, truth)
+    json.dump(dict(cases=cases), open(os.path.join(opt.out, "truth.json"), "w"), indent=1)
+    print(len(cases), "cases in", opt.out)
+
+
+if __name__ == "__main__":
+    main()
