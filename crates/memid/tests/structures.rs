@@ -139,3 +139,53 @@ fn simulate_drives_a_forced_structure_and_its_output_fits_back() {
         v["parameters"][0]
     );
 }
+
+#[test]
+fn diagnose_names_a_sensor_bias_and_the_augmented_file_fits() {
+    let dir = std::env::temp_dir().join(format!("memid-structure-diagnose-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let augmented = dir.join("augmented.ron");
+    let data = fixture("independent/effects/offset_q3.csv");
+    let run = memid(&[
+        "diagnose",
+        "--model",
+        &fixture("shear_building.ron"),
+        "--data",
+        &data,
+        "--free",
+        "k1,k2,k3,alpha,beta",
+        "--json",
+        "-",
+        "-o",
+        augmented.to_str().unwrap(),
+    ]);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    assert_eq!(v["effect"], "output_offset");
+    assert_eq!(v["label"], "output_offset(q3)");
+    // The augmented file carries the effect; fitted again with its offset free, the offset
+    // stays (truth 4e-4 m) and the storey stiffnesses are the independent truth's.
+    let text = std::fs::read_to_string(&augmented).unwrap();
+    assert!(text.contains("OutputOffset"), "{text}");
+    let fit = memid(&[
+        "fit",
+        "--model",
+        augmented.to_str().unwrap(),
+        "--data",
+        &data,
+        "--free",
+        "k1,k2,k3,alpha,beta,offset_q3",
+        "--json",
+        "-",
+    ]);
+    assert!(fit.status.success(), "{}", String::from_utf8_lossy(&fit.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&fit.stdout).unwrap();
+    let row =
+        |name: &str| v["parameters"].as_array().unwrap().iter().find(|r| r["name"] == name).unwrap().clone();
+    let offset = row("offset_q3");
+    let (value, se) = (offset["final"].as_f64().unwrap(), offset["std_error"].as_f64().unwrap());
+    assert!((value - 4e-4).abs() < 3.0 * se + 1e-5, "offset {value} ± {se}");
+    let k1 = row("k1")["final"].as_f64().unwrap();
+    assert!((k1 / 2.62e6 - 1.0).abs() < 0.02, "k1 {k1}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -13,6 +13,10 @@
 //! * [`simulate`]: a model's response, by whichever path it needs;
 //! * [`structure`]: a structure model file's free parameters as a `mem::StateSpaceModel`, its
 //!   expressions evaluated over num-dual for exact ∂A/∂P, ∂B/∂P, ∂C/∂P, ∂D/∂P, ∂x(0)/∂P;
+//! * [`exponential`]: a model with nonlinear forces — the slewing rig with effects, or a
+//!   structure with forces at its coordinates ([`StructureExponential`]) — by an exponential
+//!   integrator whose kernel both share, with the exact derivatives of its recursion;
+//! * [`sensors`]: a sensor's offset, scale and drift on any model's outputs;
 //! * [`model`]: both kinds behind one [`Model`], the kind chosen from the file in one place;
 //! * [`fit`]: fitting a model to a measured record (aligning its columns, weighting, the
 //!   quantized readings of its sensors), with the curves around the fit.

@@ -33,6 +33,11 @@
 //! written entry by entry; an output measures `State(x_i)` (row e_i), an explicit `Row([…])`,
 //! or a `Combination` of states, with an optional `feedthrough` row of D.
 //!
+//! **Effects** (`effects:`, module [`effects`]) add what a linear file leaves out: a sensor's
+//! offset, scale, drift or quantization on an output, dry friction, drag or a cubic spring at a
+//! coordinate (which make the model nonlinear: `models` integrates it), and an unmodeled mode
+//! (two states appended to the linear model). Their parameters join the file's.
+//!
 //! Every entry — of M, K, D, F, A, B, the output weights and rows, the initial state — may be an
 //! expression, so initial states too can be estimated. Derived names (`derived:`) are
 //! expressions of the parameters and of the derived names above them, evaluated in order before

@@ -71,17 +71,19 @@ pub(super) fn refit(
 }
 
 /// The exponential integrator's longest substep for `model`: the default, or a fortieth of
-/// the period of a structure's highest mode if that is shorter (a force at a coordinate acts
-/// on the time scale of the modes there).
+/// the period of a structure's highest oscillating mode if that is shorter (a force at a
+/// coordinate acts on the time scale of the modes there), but never below a sixteenth of the
+/// default — the linear part is exact however fast, and a refit that wanders to an extreme
+/// stiffness must not cost hours.
 fn max_step(model: &Model) -> f64 {
     let default = models::exponential::DEFAULT_MAX_STEP;
     match model {
         Model::Structure(_) => model
             .modes()
             .ok()
-            .and_then(|m| m.iter().map(|r| r.frequency_hz).reduce(f64::max))
+            .and_then(|m| m.iter().filter(|r| r.damping_ratio < 1.0).map(|r| r.frequency_hz).reduce(f64::max))
             .filter(|f| *f > 0.0)
-            .map_or(default, |f| default.min(1.0 / (40.0 * f))),
+            .map_or(default, |f| default.min(1.0 / (40.0 * f)).max(default / 16.0)),
         Model::Slewing(_) => default,
     }
 }
@@ -282,7 +284,9 @@ pub fn secondary_mismatch_parameters(model: &Model, free: &[String]) -> Vec<Stri
             .map(|(id, _)| id.name())
             .filter(|n| !free.contains(n))
             .collect(),
-        Model::Structure(m) => structure_fixed(m).into_iter().map(|(n, _)| n).filter(|n| !free.contains(n)).collect(),
+        Model::Structure(m) => {
+            structure_fixed(m).into_iter().map(|(n, _)| n).filter(|n| !free.contains(n)).collect()
+        }
     }
 }
 
@@ -299,7 +303,8 @@ fn structure_fixed(model: &structure::StructureModel) -> Vec<(String, (f64, f64)
         .filter(|n| !free.contains(n) && !effects.contains(n))
         .filter_map(|n| {
             let v = model.value(&n).ok()?;
-            (v != 0.0 && v.is_finite()).then(|| (n, if v > 0.0 { (0.7 * v, 1.3 * v) } else { (1.3 * v, 0.7 * v) }))
+            (v != 0.0 && v.is_finite())
+                .then_some((n, if v > 0.0 { (0.7 * v, 1.3 * v) } else { (1.3 * v, 0.7 * v) }))
         })
         .collect()
 }

@@ -162,7 +162,8 @@ pub(super) fn trials(
     // A mode within 15 % of a modelled one is not told from a change of that mode (its
     // frequency or damping, or their dependence on amplitude): seeds there are not tried, and
     // a seed's range stops 15 % short of the modelled modes around it.
-    let modelled: Vec<f64> = model.modes().map(|m| m.iter().map(|r| r.frequency_hz).collect()).unwrap_or_default();
+    let modelled: Vec<f64> =
+        model.modes().map(|m| m.iter().map(|r| r.frequency_hz).collect()).unwrap_or_default();
     for (f, zeta, (low, high)) in mode_seeds(&modelled, 0.15, localisation) {
         let amplitudes: Vec<(f64, f64)> = residual_rms.iter().map(|r| (*r, 0.0)).collect();
         let mut t = trial(
