@@ -1,0 +1,139 @@
+//! The diagnosis in words and as the JSON document of `memid diagnose --json` (docs/json.md).
+
+use super::{Diagnosis, EffectParameter, NoiseModel, ResidualStructure, Verdict};
+use crate::localise::Localisation;
+use crate::quantization;
+use serde::Serialize;
+
+/// The diagnosis as the JSON document of `memid diagnose --json` (docs/json.md).
+#[derive(Debug, Serialize)]
+pub struct DiagnosisReport<'a> {
+    /// The named effect's catalog name, or `none`.
+    pub effect: &'a str,
+    /// The named candidate's label (with its sensor), if one is named.
+    pub label: Option<&'a str>,
+    /// The named effect's parameters.
+    pub parameters: &'a [EffectParameter],
+    /// The answer in words: why this effect, or why none and what remains.
+    pub answer: Vec<String>,
+    /// ‖Y_error‖ of the baseline.
+    pub baseline_error: f64,
+    /// ‖Y_error‖ of the augmented model.
+    pub augmented_error: f64,
+    /// The model's own parameters freed to tell a mismatch from a missing effect.
+    pub mismatch_parameters: &'a [String],
+    /// In-sample gain of freeing them (nats).
+    pub mismatch_gain: f64,
+    /// What the baseline's residual holds.
+    pub residual: &'a ResidualStructure,
+    /// The measurement model every candidate was scored under.
+    pub noise: &'a NoiseModel,
+    /// Every candidate with its evidence and verdict.
+    pub candidates: &'a [super::Candidate],
+    /// Where the baseline disagrees with the data.
+    pub localisation: &'a Localisation,
+}
+
+impl Diagnosis {
+    /// The answer in words.
+    pub fn answer(&self) -> Vec<String> {
+        match self.named() {
+            Some(c) => {
+                let why = match (&c.lattice, c.evidence.held_out) {
+                    (Some(l), _) => format!(
+                        "{}: the raw readings lie on a lattice of step {:.4e} ({}), {:.1}× the noise σ",
+                        c.label,
+                        l.step,
+                        match l.form {
+                            quantization::LatticeForm::Exact { levels } =>
+                                format!("exactly, {levels} levels"),
+                            quantization::LatticeForm::Blurred { z, .. } =>
+                                format!("blurred by noise, its phase held by {z:.0} standard errors"),
+                        },
+                        l.step / l.noise.max(f64::MIN_POSITIVE)
+                    ),
+                    (None, Some(x)) => format!(
+                        "{}: fitted on alternate blocks it predicts the others better by {:.1} nats, ΔBIC {:.1}, \
+                         strength {:.1} σ from none{}",
+                        c.label,
+                        x,
+                        c.evidence.delta_bic,
+                        c.evidence.strength_z,
+                        if self.mismatch_parameters.is_empty() {
+                            String::new()
+                        } else {
+                            format!(
+                                " (the model's own parameters {} refitted alongside)",
+                                self.mismatch_parameters.join(", ")
+                            )
+                        }
+                    ),
+                    (None, None) => c.label.clone(),
+                };
+                let mut out = vec![why];
+                // A rival within the threshold is not told apart by these data.
+                if let Some(x) = c.evidence.held_out {
+                    for r in self.candidates.iter().filter(|r| r.verdict == Verdict::Outscored) {
+                        if let Some(y) = r.evidence.held_out.filter(|y| (x - y).abs() < self.threshold) {
+                            out.push(format!(
+                                "{} predicts within {:.1} nats of it (ΔBIC {:.1}): these data barely tell the two \
+                                 apart, and the smaller ΔBIC decided",
+                                r.label,
+                                (x - y).abs(),
+                                r.evidence.delta_bic
+                            ));
+                        }
+                    }
+                }
+                out
+            }
+            None => {
+                let mut out = vec!["none: no candidate of the catalog earns its name".to_string()];
+                if self.mismatch_gain > 10.0 {
+                    out.push(format!(
+                        "refitting the model's own parameters ({}) gains {:.0} nats: a parameter mismatch, not a \
+                         missing effect",
+                        self.mismatch_parameters.join(", "),
+                        self.mismatch_gain
+                    ));
+                }
+                if let Some(best) = self.candidates.iter().find(|c| c.evidence.held_out.is_some()) {
+                    out.push(format!(
+                        "the strongest candidate, {}, was {}",
+                        best.label,
+                        match &best.verdict {
+                            Verdict::NotPredictive => "not predictive on held-out blocks".to_string(),
+                            Verdict::Superficial => format!(
+                                "predictive on held-out blocks but it removes only {:.0} % of the residual's \
+                                 structure: a stand-in, not the missing physics",
+                                100.0 * best.evidence.structure_explained.max(0.0)
+                            ),
+                            other => format!("{other:?}"),
+                        }
+                    ));
+                }
+                out.extend(self.residual.sentences());
+                out
+            }
+        }
+    }
+
+    /// The JSON document.
+    pub fn report(&self) -> DiagnosisReport<'_> {
+        let named = self.named();
+        DiagnosisReport {
+            effect: self.effect(),
+            label: named.map(|c| c.label.as_str()),
+            parameters: named.map_or(&[], |c| c.parameters.as_slice()),
+            answer: self.answer(),
+            baseline_error: self.baseline_error(),
+            augmented_error: self.augmented_error(),
+            mismatch_parameters: &self.mismatch_parameters,
+            mismatch_gain: self.mismatch_gain,
+            residual: &self.residual,
+            noise: &self.noise,
+            candidates: &self.candidates,
+            localisation: &self.localisation,
+        }
+    }
+}
