@@ -64,6 +64,7 @@ mod modal;
 mod norm;
 mod pade;
 mod propagate;
+mod response;
 mod square;
 
 pub use error::ExpmError;

@@ -18,7 +18,7 @@
 //! ≲ 1e-8), otherwise the caller propagates.
 
 use crate::ExpmError;
-use crate::propagate::Response;
+use crate::response::Response;
 use faer::linalg::solvers::Solve;
 use faer::{Accum, Mat, MatRef, c64};
 

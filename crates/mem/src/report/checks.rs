@@ -3,7 +3,7 @@
 
 use super::{DerivativeCheck, Warning};
 use crate::evaluate::{Evaluation, respond};
-use crate::fit::{DerivativeCheck as Mode, Fit};
+use crate::fit::settings::{DerivativeCheck as Mode, Fit};
 use crate::{MemError, Problem};
 use expm::Response;
 

@@ -11,7 +11,7 @@ pub use identifiability::{Combination, Identifiability};
 pub use statistics::{Interval, SeriesNoise, Statistics};
 
 use crate::evaluate::{Evaluation, RowLayout};
-use crate::fit::{Fit, Termination, active_side, columns, termination_warning};
+use crate::fit::settings::{Fit, Termination, active_side, columns};
 use crate::solve::StepSolver;
 use crate::{MemError, Problem};
 use serde::Serialize;
@@ -327,7 +327,7 @@ pub(crate) fn finish(
         }
     }
     // A fit to rounding has residuals that are rounding's smooth pattern, not noise.
-    let perfect = last.cost <= crate::fit::PERFECT_FIT * start.data_energy;
+    let perfect = last.cost <= crate::fit::settings::PERFECT_FIT * start.data_energy;
     for s in series.iter().filter(|s| !perfect && s.p_value < statistics::WHITENESS_LEVEL) {
         warnings.push(Warning::CorrelatedResiduals {
             experiment: s.experiment,
@@ -360,4 +360,14 @@ pub(crate) fn finish(
         experiment_errors,
         warnings,
     })
+}
+
+/// Which warnings a run adds besides the report's analysis.
+fn termination_warning(termination: Termination, iterations: usize) -> Option<Warning> {
+    match termination {
+        Termination::Stagnated => Some(Warning::Stagnated),
+        Termination::MaxIterations => Some(Warning::IterationCap { iterations }),
+        Termination::Diverged => Some(Warning::Diverged),
+        Termination::Converged => None,
+    }
 }

@@ -15,7 +15,7 @@
 
 use super::Side;
 use crate::evaluate::{Evaluation, RowLayout};
-use crate::fit::{Covariance, Fit, columns};
+use crate::fit::settings::{Covariance, Fit, columns};
 use crate::solve::StepSolver;
 use crate::stats::{lag_one, ljung_box, t_quantile_975};
 use crate::{MemError, Problem};

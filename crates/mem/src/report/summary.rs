@@ -1,7 +1,7 @@
 //! The report as a printable table (in the spirit of the paper's Table 1).
 
 use super::{FitReport, Interval};
-use crate::fit::Termination;
+use crate::fit::settings::Termination;
 
 fn termination(t: Termination) -> &'static str {
     match t {
