@@ -80,3 +80,31 @@ fn a_relaxed_appendage_is_not_given_another_name() {
     let d = run("appendage_q3");
     assert!(matches!(d.effect(), "none" | "unmodeled_mode"), "{:?}", d.named().map(|c| &c.label));
 }
+
+#[test]
+fn a_first_order_file_gets_its_sensor_effects_tried() {
+    // ẋ = v, v̇ = −k x − c v written in first-order form (no coordinates: no forces to try),
+    // against the closed-form decay with a 2e-4 bias on the sensor and seeded noise σ = 1e-4.
+    let text = r#"(
+        name: "oscillator, first order",
+        parameters: { "k": (value: 380, free: true, bounds: (1, 1e4)), "c": (value: 1.0, free: true, bounds: (0, 100)) },
+        structure: FirstOrder(states: ["x", "v"], a: [[0, 1], ["-k", "-c"]]),
+        outputs: [(column: "y", measures: State("x"))],
+        initial: (state: [0.01, 0]),
+    )"#;
+    let model = Model::from_ron(text, "oscillator.ron").unwrap();
+    let (k, c, h, n) = (400.0f64, 0.8f64, 0.01, 501);
+    let (w, zeta) = (k.sqrt(), c / (2.0 * k.sqrt()));
+    let wd = w * (1.0 - zeta * zeta).sqrt();
+    let noise = test_problems::gaussian(n, 1, 7);
+    let values = faer::Mat::from_fn(n, 1, |i, _| {
+        let t = i as f64 * h;
+        0.01 * (-zeta * w * t).exp() * ((wd * t).cos() + zeta * w / wd * (wd * t).sin())
+            + 2e-4
+            + 1e-4 * noise[(i, 0)]
+    });
+    let data = mem::Measurement::new(vec!["y".into()], 0.0, h, values).unwrap();
+    let d = diagnose(&model, &data, &DiagnoseOptions::new(&["k", "c"])).unwrap();
+    assert_eq!(d.named().map(|c| c.label.as_str()), Some("output_offset(y)"));
+    assert!(d.candidates.iter().all(|c| !c.label.starts_with("coulomb_friction")));
+}

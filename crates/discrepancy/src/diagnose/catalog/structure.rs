@@ -26,6 +26,9 @@ pub(super) fn kind(effect: &Effect) -> EffectKind {
 /// Peak |q_j| and |q̇_j| of the model's free decay over two periods of its lowest mode (the
 /// exponential of A over one short step, applied step by step).
 fn peaks(model: &StructureModel) -> Option<Vec<(f64, f64)>> {
+    if !model.is_second_order() {
+        return None;
+    }
     let n = model.coordinates().len();
     let space = model.state_space::<f64>(&model.values()).ok()?;
     let modes = model.modes().ok()?;
@@ -94,7 +97,7 @@ pub(super) fn trials(
         ));
     }
     let matrices = model.second_order::<f64>(&model.values()).ok().flatten();
-    if let (Some(so), Some(peaks)) = (matrices, peaks(model)) {
+    if let Some((so, peaks)) = matrices.zip(peaks(model)) {
         for (j, c) in model.coordinates().iter().enumerate() {
             let (q, v) = peaks[j];
             let (m, k) = (so.m[(j, j)], so.k[(j, j)]);
