@@ -58,6 +58,20 @@ pub enum WorkflowError {
         /// The input columns.
         inputs: String,
     },
+    /// Too few readings to score candidates on half the record each.
+    #[error(
+        "the record is too short to diagnose: {residuals} readings for models of up to {parameters} parameters; \
+         each half of the record must hold 10 readings per parameter, so give at least {needed} readings \
+         (samples × outputs)"
+    )]
+    TooShort {
+        /// Samples × outputs of the record as fitted.
+        residuals: usize,
+        /// The largest candidate's parameter count.
+        parameters: usize,
+        /// The readings needed.
+        needed: usize,
+    },
 }
 
 /// The effect kinds `diagnose` tries (what `--only` accepts): the catalog without backlash,

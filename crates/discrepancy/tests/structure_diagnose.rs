@@ -108,3 +108,15 @@ fn a_first_order_file_gets_its_sensor_effects_tried() {
     assert_eq!(d.named().map(|c| c.label.as_str()), Some("output_offset(y)"));
     assert!(d.candidates.iter().all(|c| !c.label.starts_with("coulomb_friction")));
 }
+
+#[test]
+fn a_record_too_short_to_score_on_its_halves_is_refused() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures");
+    let model = Model::load(std::path::Path::new(&format!("{root}/shear_building.ron"))).unwrap();
+    let text = std::fs::read_to_string(format!("{root}/shear_building_measured.csv")).unwrap();
+    let head: String = text.lines().take(60).map(|l| format!("{l}\n")).collect();
+    let data = mem::Measurement::from_csv(&head, "head.csv").unwrap();
+    let err =
+        diagnose(&model, &data, &DiagnoseOptions::new(&["k1", "k2", "k3", "alpha", "beta"])).unwrap_err();
+    assert!(matches!(err, discrepancy::WorkflowError::TooShort { residuals: 118, .. }), "{err}");
+}

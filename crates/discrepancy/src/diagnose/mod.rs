@@ -329,6 +329,12 @@ pub fn diagnose_observed(
         .into_iter()
         .filter(|t| wanted(t.kind))
         .collect();
+    // Every candidate is refitted on half the record: it needs 10 readings a parameter there.
+    let parameters = reference_free.len() + trials.iter().map(|t| t.freed.len()).max().unwrap_or(0);
+    let residuals = data.n_samples() * data.n_outputs();
+    if residuals < 20 * parameters {
+        return Err(WorkflowError::TooShort { residuals, parameters, needed: 20 * parameters });
+    }
     let total = trials.len();
     let done = std::sync::atomic::AtomicUsize::new(0);
     let fits: Vec<Result<Fitted, WorkflowError>> = trials
