@@ -32,6 +32,8 @@ struct StructureForces<'a> {
     p: &'a [f64],
     lifted: Vec<Dual64>,
     free: &'a [usize],
+    /// Whether each free parameter is one of the forces' own (the others do not enter f).
+    acts: Vec<bool>,
     states: Vec<usize>,
     scratch: Vec<Dual64>,
 }
@@ -57,7 +59,7 @@ impl Forcing for StructureForces<'_> {
             }
             self.scratch[k].eps = 0.0;
         }
-        for (i, &slot) in self.free.iter().enumerate() {
+        for (i, &slot) in self.free.iter().enumerate().filter(|(i, _)| self.acts[*i]) {
             self.lifted[slot].eps = 1.0;
             for (o, law) in out.by_parameter[i * m..(i + 1) * m].iter_mut().zip(&self.laws) {
                 *o = law.force(&self.scratch, &self.lifted).eps;
@@ -94,12 +96,11 @@ impl StructureExponential {
         let forces = self.model.force_parts(p).map_err(failed)?.ok_or_else(|| {
             NonlinearError::Solver("the structure has no force effect; use its linear path".into())
         })?;
-        let h = forces.h.iter().any(|v| part(v) != 0.0).then(|| mat(&forces.h, part));
         Ok(Linear {
             a: mat(&space.a, part),
             g: mat(&forces.g, part),
             c: mat(&space.c, part),
-            h,
+            h: Some(mat(&forces.h, part)),
             x0: space.x0.iter().map(part).collect(),
         })
     }
@@ -118,28 +119,28 @@ impl StructureExponential {
         let mut lifted: Vec<Dual64> = all.iter().map(|v| Dual64::from(*v)).collect();
         for &slot in &self.free {
             lifted[slot].eps = 1.0;
-            let mut di = self.linear(&lifted, |v: &Dual64| v.eps)?;
+            d.push(self.linear(&lifted, |v: &Dual64| v.eps)?);
             lifted[slot].eps = 0.0;
-            // H and its derivative are used together: both or neither.
-            if lin.h.is_some() || di.h.is_some() {
-                let (p_out, m) = (lin.c.nrows(), lin.g.ncols());
-                lin.h.get_or_insert_with(|| Mat::zeros(p_out, m));
-                di.h.get_or_insert_with(|| Mat::zeros(p_out, m));
-            }
-            d.push(di);
         }
-        if lin.h.is_some() {
-            for di in &mut d {
-                di.h.get_or_insert_with(|| Mat::zeros(lin.c.nrows(), lin.g.ncols()));
-            }
+        // H holds the acceleration outputs' share of the forces: without such an output it is
+        // zero, with its derivatives, and the outputs skip it.
+        let zero = |h: &Option<Mat<f64>>| h.as_ref().is_none_or(|h| h.norm_max() == 0.0);
+        if zero(&lin.h) && d.iter().all(|di| zero(&di.h)) {
+            lin.h = None;
+            d.iter_mut().for_each(|di| di.h = None);
         }
+        let laws = self.model.force_laws();
+        let mut states: Vec<usize> = laws.iter().flat_map(|l| l.states()).collect();
+        states.sort_unstable();
+        states.dedup();
         let n = lin.a.nrows();
         let mut forces = StructureForces {
-            laws: self.model.force_laws(),
+            acts: self.free.iter().map(|&slot| laws.iter().any(|l| l.uses(slot))).collect(),
+            laws,
             p: &all,
             lifted,
             free: &self.free,
-            states: self.model.force_states(),
+            states,
             scratch: vec![Dual64::from(0.0); n],
         };
         integrate(&lin, &d, &mut forces, start, h, self.max_step, out)

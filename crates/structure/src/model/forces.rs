@@ -1,4 +1,4 @@
-//! The effects of a [`StructureModel`]: adding and removing them, the quantization of its
+//! The effects of a [`StructureModel`]: adding them, the quantization of its
 //! outputs, and the forces at its coordinates with their columns G and H (`crate::effects`).
 
 use super::StructureModel;
@@ -14,12 +14,23 @@ pub struct ForceLaw {
     n: usize,
     coordinate: usize,
     start: usize,
+    len: usize,
 }
 
 impl ForceLaw {
     /// The force at state `x` and parameters `p` (all of the model's).
     pub fn force<D: Scalar>(&self, x: &[D], p: &[D]) -> D {
         self.effect.force(x, self.n, self.coordinate, &p[self.start..])
+    }
+
+    /// The states it depends on: its coordinate's displacement and velocity.
+    pub fn states(&self) -> [usize; 2] {
+        [self.coordinate, self.n + self.coordinate]
+    }
+
+    /// Whether the parameter at `slot` of P is one of its own.
+    pub fn uses(&self, slot: usize) -> bool {
+        (self.start..self.start + self.len).contains(&slot)
     }
 }
 
@@ -68,13 +79,6 @@ impl StructureModel {
         Ok(())
     }
 
-    /// Removes the effects of `kind` (at `target` if given); returns how many were removed.
-    pub fn remove_effect(&mut self, kind: EffectKind, target: Option<&Target<'_>>) -> usize {
-        let before = self.effects.len();
-        self.effects.retain(|e| !(e.kind() == kind && target.is_none_or(|t| e.target() == *t)));
-        before - self.effects.len()
-    }
-
     /// Whether the model is linear (no force effect).
     pub fn is_linear(&self) -> bool {
         !self.effects.iter().any(Effect::is_force)
@@ -118,29 +122,20 @@ impl StructureModel {
             .collect()
     }
 
-    /// The force effects' forces f(x) at the state x (see [`crate::effects`]) and parameters
-    /// `p` (all of them, as in [`state_space`](Self::state_space)); empty for a linear model.
-    pub fn forces<D: Scalar>(&self, x: &[D], p: &[D]) -> Vec<D> {
-        self.force_laws().iter().map(|law| law.force(x, p)).collect()
-    }
-
     /// The force effects as laws to evaluate many times (in the order of the columns of
     /// [`force_parts`](Self::force_parts)).
     pub fn force_laws(&self) -> Vec<ForceLaw> {
         let n = self.coordinates().len();
         self.force_effects()
             .into_iter()
-            .map(|(e, j, start)| ForceLaw { effect: e.clone(), n, coordinate: j, start })
+            .map(|(e, j, start)| ForceLaw {
+                effect: e.clone(),
+                n,
+                coordinate: j,
+                start,
+                len: e.parameters(&[]).len(),
+            })
             .collect()
-    }
-
-    /// The states the forces depend on (the force coordinates' displacements and velocities).
-    pub fn force_states(&self) -> Vec<usize> {
-        let n = self.coordinates().len();
-        let mut states: Vec<usize> = self.force_effects().iter().flat_map(|(_, j, _)| [*j, n + *j]).collect();
-        states.sort_unstable();
-        states.dedup();
-        states
     }
 
     /// G and H of the force effects at `p` (`None` for a linear model).
@@ -162,7 +157,7 @@ impl StructureModel {
     }
 
     /// The number of states with an unmodeled mode's two.
-    pub fn n_states_with_effects(&self) -> usize {
+    fn n_states_with_effects(&self) -> usize {
         self.n_states() + 2 * usize::from(self.effects.iter().any(|e| e.kind() == EffectKind::UnmodeledMode))
     }
 }
