@@ -317,18 +317,8 @@ pub fn diagnose_observed(
     let localisation = localise(&data, &reference.outcome);
     let start = reference.outcome.fitted.clone();
     let wanted = |kind: EffectKind| options.only.is_empty() || options.only.contains(&kind);
-    let reference_residual = reference.outcome.first().residual();
-    let residual_rms: Vec<f64> = (0..reference_residual.ncols())
-        .map(|o| {
-            let n = reference_residual.nrows().max(1) as f64;
-            ((0..reference_residual.nrows()).map(|k| reference_residual[(k, o)].powi(2)).sum::<f64>() / n)
-                .sqrt()
-        })
-        .collect();
-    let trials: Vec<Trial> = catalog::trials(&start, &localisation, &residual_rms)
-        .into_iter()
-        .filter(|t| wanted(t.kind))
-        .collect();
+    let trials: Vec<Trial> =
+        catalog::trials(&start, &localisation).into_iter().filter(|t| wanted(t.kind)).collect();
     // Every candidate is refitted on half the record: it needs 10 readings a parameter there.
     let parameters = reference_free.len() + trials.iter().map(|t| t.freed.len()).max().unwrap_or(0);
     let residuals = data.n_samples() * data.n_outputs();

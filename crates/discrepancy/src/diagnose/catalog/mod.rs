@@ -128,12 +128,13 @@ impl Strength {
 }
 
 /// The catalog's candidates for `model` (which already carries the effects found so far), with
-/// the residual modes of `localisation` for an unmodeled mode and the reference residual's RMS
-/// per output for its starting amplitudes. Effects the model has are not tried again.
-pub fn trials(model: &Model, localisation: &Localisation, residual_rms: &[f64]) -> Vec<Trial> {
+/// the residual modes of `localisation` for an unmodeled mode (and, for a structure, its
+/// residual RMS per output for the mode's starting amplitudes). Effects the model has are not
+/// tried again.
+pub fn trials(model: &Model, localisation: &Localisation) -> Vec<Trial> {
     match model {
         Model::Slewing(m) => slewing::trials(m, localisation),
-        Model::Structure(m) => structure::trials(m, localisation, residual_rms),
+        Model::Structure(m) => structure::trials(m, localisation),
     }
 }
 

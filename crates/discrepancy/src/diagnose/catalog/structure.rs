@@ -66,11 +66,7 @@ fn trial(
 }
 
 /// The catalog's candidates for a structure (see the module docs).
-pub(super) fn trials(
-    model: &StructureModel,
-    localisation: &Localisation,
-    residual_rms: &[f64],
-) -> Vec<Trial> {
+pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec<Trial> {
     let outputs = model.output_names();
     let mut out = Vec::new();
     for name in &outputs {
@@ -168,7 +164,7 @@ pub(super) fn trials(
     let modelled: Vec<f64> =
         model.modes().map(|m| m.iter().map(|r| r.frequency_hz).collect()).unwrap_or_default();
     for (f, zeta, (low, high)) in mode_seeds(&modelled, 0.15, localisation) {
-        let amplitudes: Vec<(f64, f64)> = residual_rms.iter().map(|r| (*r, 0.0)).collect();
+        let amplitudes: Vec<(f64, f64)> = localisation.outputs.iter().map(|o| (o.rms, 0.0)).collect();
         let mut t = trial(
             Effect::UnmodeledMode { frequency_hz: f, damping_ratio: zeta.clamp(0.005, 0.15), amplitudes },
             format!("unmodeled_mode({f:.2} Hz)"),
