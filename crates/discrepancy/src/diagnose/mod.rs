@@ -514,7 +514,8 @@ fn choose(candidates: &[Candidate], threshold: f64) -> Option<usize> {
     })
 }
 
-/// The z a blurred lattice's phase must hold by on the second half of the moving samples.
+/// The z a blurred lattice's phase, or a sawtooth's fundamental, must hold by on the second half
+/// of the moving samples.
 const LATTICE_Z: f64 = 8.0;
 
 /// One candidate per sensor not yet quantized whose raw readings hold a lattice; named
@@ -537,9 +538,8 @@ fn quantization_candidates(
             continue;
         }
         let values: Vec<f64> = (0..raw.n_samples()).map(|k| raw.values()[(k, o)]).collect();
-        let n = values.len() as f64;
-        let variance = values.iter().enumerate().map(|(k, v)| (v - fitted[(k, o)]).powi(2)).sum::<f64>() / n;
-        let Some(lattice) = quantization::detect(&values, variance, LATTICE_Z) else { continue };
+        let predicted: Vec<f64> = (0..raw.n_samples()).map(|k| fitted[(k, o)]).collect();
+        let Some(lattice) = quantization::detect(&values, &predicted, LATTICE_Z) else { continue };
         let (sensor, effect) = match start {
             Model::Slewing(m) => {
                 let sensor = m.sensors()[o];

@@ -49,6 +49,10 @@ impl Diagnosis {
                                 format!("exactly, {levels} levels"),
                             quantization::LatticeForm::Blurred { z, .. } =>
                                 format!("blurred by noise, its phase held by {z:.0} standard errors"),
+                            quantization::LatticeForm::Sawtooth { z, amplitude_ratio, .. } => format!(
+                                "noise after the rounding: the residual is the rounding's sawtooth of the fitted \
+                                 response, held by {z:.0} standard errors at {amplitude_ratio:.2}× a rounding's amplitude"
+                            ),
                         },
                         l.step / l.noise.max(f64::MIN_POSITIVE)
                     ),
