@@ -1,0 +1,168 @@
+//! The lattice in the raw readings themselves: exact (noise before the quantizer) or blurred
+//! (noise after it), found on the first half of the moving samples and confirmed on the second.
+
+use super::{batch_z, moving};
+
+/// The step of an exact lattice, with the number of distinct levels, if every value is
+/// c + jΔ to 10⁻⁶Δ (plus 10⁻¹² of the largest magnitude) and there are at least `min_levels`
+/// levels among at most 90 % distinct values.
+pub fn exact(values: &[f64], min_levels: usize) -> Option<(f64, usize)> {
+    let scale = values.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    if values.len() < 10 || !(scale > 0.0 && scale.is_finite()) {
+        return None;
+    }
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let tie = 1e-12 * scale;
+    let mut levels: Vec<f64> = Vec::new();
+    for v in sorted {
+        if levels.last().is_none_or(|l| v - l > tie) {
+            levels.push(v);
+        }
+    }
+    if levels.len() < min_levels.max(3) || levels.len() as f64 > 0.9 * values.len() as f64 {
+        return None;
+    }
+    let smallest = levels.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
+    let origin = levels[0];
+    (1..=8).map(|d| smallest / d as f64).find_map(|step| {
+        let tolerance = 1e-6 * step + tie;
+        let on = levels.iter().all(|v| {
+            let j = (v - origin) / step;
+            (j - j.round()).abs() * step <= tolerance
+        });
+        on.then_some((step, levels.len()))
+    })
+}
+
+/// The mean of exp(2πi y/Δ).
+fn phasor(values: &[f64], step: f64) -> (f64, f64) {
+    let (mut c, mut s) = (0.0, 0.0);
+    for v in values {
+        let phase = 2.0 * std::f64::consts::PI * v / step;
+        c += phase.cos();
+        s += phase.sin();
+    }
+    let n = values.len().max(1) as f64;
+    (c / n, s / n)
+}
+
+fn rayleigh(values: &[f64], step: f64) -> f64 {
+    let (c, s) = phasor(values, step);
+    (c * c + s * s).sqrt()
+}
+
+/// A blurred lattice, found on the first half of the moving samples and confirmed on the
+/// second: the step Δ maximising R over the first half (from `min_step` to a fortieth of their
+/// range, so that the signal's own distribution is smooth on the scale of a step; then the
+/// largest multiple of it that keeps R), and the lattice's phase φ; on the second half, the
+/// mean of cos(2πy/Δ − φ), which is 0 without a lattice, over its standard error by batch means
+/// (20 batches, so that coloured noise does not pass for evidence). A lattice that is a trace
+/// of the signal's distribution in one half (its turning points, its approach to rest) does
+/// not hold its phase in the other, where the amplitudes differ.
+///
+/// Returns (step, z, samples confirmed on, blur σ) if z ≥ `threshold`.
+pub fn blurred(values: &[f64], min_step: f64, threshold: f64) -> Option<(f64, f64, usize, f64)> {
+    let samples = moving(values);
+    let n = samples.len();
+    let (first, second) = samples.split_at(n / 2);
+    let (lo, hi) =
+        samples.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(*v), b.max(*v)));
+    let max_step = (hi - lo) / 40.0;
+    if n < 200 || !(max_step > min_step && min_step > 0.0) {
+        return None;
+    }
+    let grid = 800;
+    let ratio = (max_step / min_step).powf(1.0 / grid as f64);
+    let mut best = (0.0, min_step);
+    let mut step = min_step;
+    for _ in 0..=grid {
+        let r = rayleigh(first, step);
+        if r > best.0 {
+            best = (r, step);
+        }
+        step *= ratio;
+    }
+    // Refine by golden-section search around the best grid point.
+    let (mut a, mut b) = (best.1 / ratio, best.1 * ratio);
+    for _ in 0..60 {
+        let m1 = b - (b - a) / 1.618_033_988_75;
+        let m2 = a + (b - a) / 1.618_033_988_75;
+        if rayleigh(first, m1) > rayleigh(first, m2) {
+            b = m2;
+        } else {
+            a = m1;
+        }
+    }
+    let mut step = 0.5 * (a + b);
+    let r = rayleigh(first, step);
+    // A sub-multiple of the true step shows the same R: take the largest multiple that keeps it.
+    if let Some(k) = (2..=8)
+        .rev()
+        .find(|&k| k as f64 * step <= (hi - lo) / 8.0 && rayleigh(first, k as f64 * step) >= 0.9 * r)
+    {
+        step *= k as f64;
+    }
+    let (c, s) = phasor(first, step);
+    let phase = s.atan2(c);
+    let projections: Vec<f64> =
+        second.iter().map(|v| (2.0 * std::f64::consts::PI * v / step - phase).cos()).collect();
+    let (mean, z) = batch_z(&projections);
+    let blur = step / (2.0 * std::f64::consts::PI) * (-2.0 * mean.clamp(1e-300, 1.0).ln()).sqrt();
+    (z >= threshold).then_some((step, z, second.len(), blur))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::quantization::detect;
+    use rand::{Rng, SeedableRng};
+
+    fn decay(n: usize) -> Vec<f64> {
+        (0..n).map(|k| 0.5 * (-(k as f64) / 400.0).exp() * (k as f64 * 0.05).cos()).collect()
+    }
+
+    #[test]
+    fn an_adc_record_is_an_exact_lattice_and_a_continuous_one_is_not() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+        let step = 0.004;
+        let clean = decay(3000);
+        let adc: Vec<f64> = clean
+            .iter()
+            .map(|v| step * ((v + 0.001 * rng.sample::<f64, _>(rand_distr::StandardNormal)) / step).round())
+            .collect();
+        let (found, levels) = exact(&adc, 10).expect("a lattice");
+        assert!((found / step - 1.0).abs() < 1e-9, "{found}");
+        assert!(levels > 100);
+        let noisy: Vec<f64> =
+            clean.iter().map(|v| v + 0.001 * rng.sample::<f64, _>(rand_distr::StandardNormal)).collect();
+        assert!(exact(&noisy, 10).is_none());
+        // Printing precision: a lattice of 10⁻⁶, far below the noise, does not matter.
+        let printed: Vec<f64> = noisy.iter().map(|v| (v * 1e6).round() / 1e6).collect();
+        let exact_fit: Vec<f64> = clean.clone();
+        assert!(detect(&printed, &exact_fit, 8.0).is_none_or(|l| !l.matters()));
+        let adc = detect(&adc, &clean, 8.0).expect("the ADC lattice");
+        assert!(adc.matters());
+    }
+
+    #[test]
+    fn a_settled_tail_is_not_a_lattice_but_a_blurred_lattice_while_moving_is() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(5);
+        // A decay that settles for two thirds of the record: noise crowding near rest.
+        let clean: Vec<f64> = (0..3000)
+            .map(|k| if k < 1000 { 0.5 * (k as f64 * 0.02).cos() * (1.0 - k as f64 / 1000.0) } else { 0.0 })
+            .collect();
+        let noisy: Vec<f64> =
+            clean.iter().map(|v| v + 0.001 * rng.sample::<f64, _>(rand_distr::StandardNormal)).collect();
+        assert!(blurred(&noisy, 5e-4, 8.0).is_none());
+        let step = 0.01;
+        let after: Vec<f64> = clean
+            .iter()
+            .map(|v| step * (v / step).round() + 0.001 * rng.sample::<f64, _>(rand_distr::StandardNormal))
+            .collect();
+        let (found, z, _, blur) = blurred(&after, 5e-4, 8.0).expect("a blurred lattice");
+        assert!((found / step - 1.0).abs() < 0.01, "{found}");
+        assert!(z > 20.0, "{z}");
+        assert!((blur / 0.001 - 1.0).abs() < 0.3, "{blur}");
+    }
+}

@@ -1,0 +1,135 @@
+//! Is a sensor quantized? A lattice in its raw readings, seen while the signal moves.
+//!
+//! Two forms are told apart, as a quantizer can sit before or after the noise:
+//! - **exact**: every reading is y = c + jΔ to rounding precision (noise added before the
+//!   quantizer, as in an ADC). A continuous measurement model gives such a record probability
+//!   zero, so the lattice itself is the evidence; it must span several levels, not only the
+//!   settled tail.
+//! - **blurred**: readings y = c + jΔ + e (noise after the quantizer). Over the samples taken
+//!   while the signal moves (the settled tail excluded, where values crowd near rest and any
+//!   step would look like a lattice), R(Δ) = |mean exp(2πi y/Δ)| is ≈ exp(−2π²σ²/Δ²) on a
+//!   lattice blurred by noise σ and ≈ 1/√n otherwise. The step and phase are found on the first
+//!   half of those samples and confirmed on the second ([`blurred`]).
+//!
+//! - **sawtooth**: the same noise-after quantizer seen through the model. The residual about
+//!   the fitted response x̂ is r = Q(x̂) − x̂ + e, a sawtooth of x̂ with period Δ whose
+//!   fundamental has amplitude Δ/π (x − round(x) = (Δ/π) Σ_k (−1)^{k+1} sin(2πkx/Δ)/k).
+//!   Regressing r on the phase of x̂ does not suffer the noise's blur of the readings'
+//!   own phase, so it sees a step that [`blurred`] cannot (about 2.5× the z at Δ = 3.6σ). The
+//!   period is found on the first half of the moving samples and the sinusoid confirmed on the
+//!   second, where its amplitude must also be a rounding's, Δ/π ([`sawtooth`]).
+//!
+//! Either way the step matters only if it is comparable to the noise or larger (a record
+//! printed with six decimals lies on a 10⁻⁶ lattice too); [`Lattice::matters`] says so.
+
+mod lattice;
+mod sawtooth;
+
+pub use lattice::{blurred, exact};
+pub use sawtooth::sawtooth;
+
+use serde::Serialize;
+
+/// How the lattice shows.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "form")]
+pub enum LatticeForm {
+    /// Every reading lies on the lattice to rounding precision; `levels` distinct values.
+    Exact {
+        /// Distinct levels the readings take.
+        levels: usize,
+    },
+    /// The moving samples crowd around the lattice: found on the first half of them, its phase
+    /// holds on the second half by `z` standard errors.
+    Blurred {
+        /// The confirmation's z (batch-means standard error).
+        z: f64,
+        /// The samples it was confirmed on.
+        samples: usize,
+    },
+    /// The residual about the fitted response is a rounding's sawtooth of the response: its
+    /// period found on the first half of the moving samples, its fundamental held on the second
+    /// half by `z` standard errors with `amplitude_ratio` × the Δ/π a rounding gives.
+    Sawtooth {
+        /// The confirmation's z (batch-means standard error).
+        z: f64,
+        /// The samples it was confirmed on.
+        samples: usize,
+        /// The fundamental's amplitude on the second half over Δ/π.
+        amplitude_ratio: f64,
+    },
+}
+
+/// A lattice found in one sensor's readings.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Lattice {
+    /// Step Δ.
+    pub step: f64,
+    /// How it shows.
+    pub form: LatticeForm,
+    /// The sensor noise σ (before or after the quantizer) it leaves: from the blur of a blurred
+    /// lattice, from the residual variance less Δ²/12 for an exact one.
+    pub noise: f64,
+}
+
+impl Lattice {
+    /// The step is comparable to the noise or larger (Δ ≥ σ/2): the rounding is a visible part
+    /// of the measurement, not a printing precision far below the noise.
+    pub fn matters(&self) -> bool {
+        self.step >= 0.5 * self.noise
+    }
+}
+
+/// The samples taken while the signal moves: from the start to the last sample farther from
+/// the rest value (the median of the last tenth of the record) than a tenth of the largest
+/// excursion. Chosen by time, not by value, so that no cut in value shapes their distribution.
+pub fn moving(values: &[f64]) -> Vec<f64> {
+    values[..moving_end(values)].to_vec()
+}
+
+/// The end (exclusive) of the samples [`moving`] keeps.
+fn moving_end(values: &[f64]) -> usize {
+    let n = values.len();
+    if n == 0 {
+        return 0;
+    }
+    let mut tail: Vec<f64> = values[n - (n / 10).max(1)..].to_vec();
+    tail.sort_by(f64::total_cmp);
+    let rest = tail[tail.len() / 2];
+    let reach = values.iter().fold(0.0f64, |a, v| a.max((v - rest).abs()));
+    values.iter().rposition(|v| (v - rest).abs() > 0.1 * reach).map_or(0, |k| k + 1)
+}
+
+/// The mean of `projections` and its z over the batch-means standard error (20 batches, so
+/// that coloured noise does not pass for evidence).
+fn batch_z(projections: &[f64]) -> (f64, f64) {
+    let batches = 20;
+    let size = (projections.len() / batches).max(1);
+    let means: Vec<f64> = (0..batches)
+        .map(|b| {
+            let chunk = projections.get(b * size..((b + 1) * size).min(projections.len())).unwrap_or(&[]);
+            chunk.iter().sum::<f64>() / chunk.len().max(1) as f64
+        })
+        .collect();
+    let mean = means.iter().sum::<f64>() / batches as f64;
+    let spread = (means.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (batches - 1) as f64).sqrt();
+    (mean, mean / (spread / (batches as f64).sqrt()).max(f64::MIN_POSITIVE))
+}
+
+/// The lattice of one sensor's raw readings, if there is one: exact first, else blurred, else
+/// the sawtooth of the residual about `fitted` (the fitted model's output at the same samples).
+/// `threshold` is the z the blurred and sawtooth statistics need.
+pub fn detect(values: &[f64], fitted: &[f64], threshold: f64) -> Option<Lattice> {
+    let n = values.len().max(1) as f64;
+    let residual_variance = values.iter().zip(fitted).map(|(y, x)| (y - x).powi(2)).sum::<f64>() / n;
+    if let Some((step, levels)) = exact(values, 10) {
+        let noise = (residual_variance - step * step / 12.0).max(0.0).sqrt();
+        return Some(Lattice { step, form: LatticeForm::Exact { levels }, noise });
+    }
+    let range = values.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let min_step = (0.5 * residual_variance.sqrt()).max(1e-6 * range);
+    if let Some((step, z, samples, noise)) = blurred(values, min_step, threshold) {
+        return Some(Lattice { step, form: LatticeForm::Blurred { z, samples }, noise });
+    }
+    sawtooth(values, fitted, min_step, threshold)
+}

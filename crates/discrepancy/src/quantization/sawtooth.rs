@@ -1,0 +1,204 @@
+//! A noise-after quantizer seen through the model: the residual about the fitted response is
+//! the rounding's sawtooth of that response (see the module notes of `quantization`).
+
+use super::{Lattice, LatticeForm, batch_z, moving_end};
+
+/// The fundamental of r against the phase of x at frequency f (cycles per unit of x):
+/// 2·mean(r·exp(−2πi f x)), as (cos, sin) parts.
+fn fundamental(residual: &[f64], fitted: &[f64], frequency: f64) -> (f64, f64) {
+    let (mut c, mut s) = (0.0, 0.0);
+    for (r, x) in residual.iter().zip(fitted) {
+        let (sin, cos) = (2.0 * std::f64::consts::PI * frequency * x).sin_cos();
+        c += r * cos;
+        s += r * sin;
+    }
+    let n = residual.len().max(1) as f64;
+    (2.0 * c / n, 2.0 * s / n)
+}
+
+/// The amplitudes of the fundamental of r against the phase of x on the frequency grid
+/// f_j = f₀ + j·df, j < count, each sample's phasor turned by exp(2πi x·df) from one grid point
+/// to the next instead of recomputed (renormalised every 64 steps).
+fn fundamental_scan(residual: &[f64], fitted: &[f64], f0: f64, df: f64, count: usize) -> Vec<f64> {
+    let mut c = vec![0.0; count];
+    let mut s = vec![0.0; count];
+    let tau = 2.0 * std::f64::consts::PI;
+    for (r, x) in residual.iter().zip(fitted) {
+        let (mut ps, mut pc) = (tau * f0 * x).sin_cos();
+        let (ws, wc) = (tau * df * x).sin_cos();
+        for j in 0..count {
+            c[j] += r * pc;
+            s[j] += r * ps;
+            (pc, ps) = (pc * wc - ps * ws, pc * ws + ps * wc);
+            if j % 64 == 63 {
+                let norm = (pc * pc + ps * ps).sqrt();
+                (pc, ps) = (pc / norm, ps / norm);
+            }
+        }
+    }
+    let n = residual.len().max(1) as f64;
+    c.iter().zip(&s).map(|(c, s)| 2.0 * (c * c + s * s).sqrt() / n).collect()
+}
+
+/// The largest frequency grid [`sawtooth`] scans (points): it bounds the cost when the range of
+/// the response is very many smallest steps.
+const SAWTOOTH_GRID: usize = 20_000;
+
+/// A noise-after quantizer seen through the model: the residual r = y − x̂ of the readings
+/// about the fitted response is a sawtooth of x̂ of period Δ (see the module notes).
+///
+/// Over the moving samples: on the first half, the Δ from `min_step` to a fortieth of x̂'s
+/// range whose fundamental is largest (a grid in 1/Δ at a quarter of the resolution 1/range,
+/// then a golden-section refinement), and its phase φ; on the second half, the mean of
+/// 2r·cos(2πx̂/Δ − φ), its z by batch means, and its ratio to the Δ/π a rounding gives. A
+/// periodicity that is not a rounding's (a cogging-like ripple, a trace of the misfit) does not
+/// hold its phase, or has the wrong amplitude for its period.
+///
+/// Returns the lattice if z ≥ `threshold` and the ratio is within 0.5–1.5; its noise is the
+/// moving samples' residual variance less the rounding's Δ²/12.
+pub fn sawtooth(values: &[f64], fitted: &[f64], min_step: f64, threshold: f64) -> Option<Lattice> {
+    if values.len() != fitted.len() {
+        return None;
+    }
+    let end = moving_end(values);
+    let (x, r): (Vec<f64>, Vec<f64>) =
+        fitted[..end].iter().zip(&values[..end]).map(|(x, y)| (*x, y - x)).unzip();
+    let n = x.len();
+    if n < 200 || !x.iter().chain(&r).all(|v| v.is_finite()) {
+        return None;
+    }
+    let half = n / 2;
+    let (x1, x2) = x.split_at(half);
+    let (r1, r2) = r.split_at(half);
+    let (lo, hi) = x1.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(*v), b.max(*v)));
+    let range = hi - lo;
+    let max_step = range / 40.0;
+    if !(max_step > min_step && min_step > 0.0) {
+        return None;
+    }
+    let (f_lo, f_hi) = (1.0 / max_step, 1.0 / min_step);
+    let df = (0.25 / range).max((f_hi - f_lo) / SAWTOOTH_GRID as f64);
+    let count = ((f_hi - f_lo) / df).ceil() as usize + 1;
+    let amplitudes = fundamental_scan(r1, x1, f_lo, df, count);
+    let best = amplitudes.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).map(|(j, _)| j)?;
+    let amplitude = |f: f64| {
+        let (c, s) = fundamental(r1, x1, f);
+        c.hypot(s)
+    };
+    let (mut a, mut b) = (f_lo + (best as f64 - 1.0) * df, f_lo + (best as f64 + 1.0) * df);
+    for _ in 0..40 {
+        let m1 = b - (b - a) / 1.618_033_988_75;
+        let m2 = a + (b - a) / 1.618_033_988_75;
+        if amplitude(m1) > amplitude(m2) {
+            b = m2;
+        } else {
+            a = m1;
+        }
+    }
+    let frequency = 0.5 * (a + b);
+    let step = 1.0 / frequency;
+    let (c, s) = fundamental(r1, x1, frequency);
+    let phase = s.atan2(c);
+    let projections: Vec<f64> = r2
+        .iter()
+        .zip(x2)
+        .map(|(r, x)| 2.0 * r * (2.0 * std::f64::consts::PI * frequency * x - phase).cos())
+        .collect();
+    let (mean, z) = batch_z(&projections);
+    let amplitude_ratio = mean / (step / std::f64::consts::PI);
+    let variance = r.iter().map(|v| v * v).sum::<f64>() / n as f64;
+    (z >= threshold && (0.5..=1.5).contains(&amplitude_ratio)).then(|| Lattice {
+        step,
+        form: LatticeForm::Sawtooth { z, samples: r2.len(), amplitude_ratio },
+        noise: (variance - step * step / 12.0).max(0.0).sqrt(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::quantization::{blurred, detect};
+    use rand::{Rng, SeedableRng};
+
+    /// A lightly damped decay of 12.8 Hz-like sampling with 700 moving samples, then rest.
+    fn swing(n: usize) -> Vec<f64> {
+        (0..n)
+            .map(|k| if k < 700 { 0.8 * (-(k as f64) / 300.0).exp() * (k as f64 * 0.11).cos() } else { 0.0 })
+            .collect()
+    }
+
+    fn gaussian(rng: &mut rand::rngs::StdRng, n: usize, sigma: f64, rho: f64) -> Vec<f64> {
+        let mut e = 0.0;
+        let scale = sigma * (1.0 - rho * rho).sqrt();
+        (0..n)
+            .map(|_| {
+                e = rho * e + scale * rng.sample::<f64, _>(rand_distr::StandardNormal);
+                e
+            })
+            .collect()
+    }
+
+    #[test]
+    fn noise_after_a_quantizer_is_seen_through_the_model_where_the_readings_blur() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(11);
+        let clean = swing(2000);
+        let sigma = 0.004;
+        let step = 3.6 * sigma;
+        let noise = gaussian(&mut rng, clean.len(), sigma, 0.0);
+        let y: Vec<f64> = clean.iter().zip(&noise).map(|(x, e)| step * (x / step).round() + e).collect();
+        // The readings' own phase is blurred to e^{-2π²/3.6²} ≈ 0.22: not confirmed at z ≥ 8.
+        assert!(blurred(&y, 0.5 * sigma, 8.0).is_none());
+        let lattice = detect(&y, &clean, 8.0).expect("a lattice");
+        assert!((lattice.step / step - 1.0).abs() < 0.01, "{} vs {step}", lattice.step);
+        let LatticeForm::Sawtooth { z, samples, amplitude_ratio } = lattice.form else {
+            panic!("{:?}", lattice.form)
+        };
+        assert!(z >= 8.0 && samples > 300, "{z} {samples}");
+        assert!((amplitude_ratio - 1.0).abs() < 0.3, "{amplitude_ratio}");
+        assert!(lattice.matters());
+        assert!((lattice.noise / sigma - 1.0).abs() < 0.2, "{}", lattice.noise);
+    }
+
+    #[test]
+    fn no_sawtooth_in_white_or_coloured_noise_a_misfit_or_a_ripple_of_the_wrong_amplitude() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(12);
+        let clean = swing(4000);
+        let sigma = 0.004;
+        for rho in [0.0, 0.5, 0.9] {
+            for _ in 0..10 {
+                let noise = gaussian(&mut rng, clean.len(), sigma, rho);
+                let y: Vec<f64> = clean.iter().zip(&noise).map(|(x, e)| x + e).collect();
+                assert!(sawtooth(&y, &clean, 0.5 * sigma, 8.0).is_none(), "rho {rho}");
+                // A smooth misfit: the fitted response 2 % too small and 1 % slow.
+                let misfit: Vec<f64> = (0..clean.len())
+                    .map(|k| {
+                        if k < 700 {
+                            0.98 * 0.8 * (-(k as f64) / 300.0).exp() * (k as f64 * 0.111).cos()
+                        } else {
+                            0.0
+                        }
+                    })
+                    .collect();
+                assert!(sawtooth(&y, &misfit, 0.5 * sigma, 8.0).is_none(), "misfit, rho {rho}");
+            }
+        }
+        // A ripple periodic in the response, three times a rounding's amplitude for its period.
+        // The same ripple at a rounding's amplitude is found: the amplitude rule is what refuses it.
+        let period = 0.02;
+        let noise = gaussian(&mut rng, clean.len(), sigma, 0.0);
+        let ripple = |times: f64| -> Vec<f64> {
+            clean
+                .iter()
+                .zip(&noise)
+                .map(|(x, e)| {
+                    x + times * period / std::f64::consts::PI
+                        * (2.0 * std::f64::consts::PI * x / period).sin()
+                        + e
+                })
+                .collect()
+        };
+        assert!(sawtooth(&ripple(3.0), &clean, 0.5 * sigma, 8.0).is_none());
+        let found = sawtooth(&ripple(1.0), &clean, 0.5 * sigma, 8.0).expect("a rounding's amplitude");
+        assert!((found.step / period - 1.0).abs() < 0.01, "{}", found.step);
+    }
+}
