@@ -191,11 +191,15 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
             vec![nonzero(ParamId::ExtraModeStiffnessCoupling)],
         ));
         // Through damping: a damper between the hub and the mode. The damping matrix stays
-        // positive semi-definite for c_d² ≤ d_hub·2ζω, d_hub = C_v + K_bK_t/R_a.
+        // positive semi-definite for c_d² ≤ d_hub·2ζω, d_hub = C_v + K_bK_t/R_a. The damper
+        // damps the mode as well (its share of 2ζω is at least c_d²/d_hub), so a mode coupled
+        // this way strongly is a well damped one: its damping ratio may reach 0.5.
         let d_hub = c.viscous_damping + c.back_emf_constant * c.torque_constant / c.armature_resistance;
         let omega = 2.0 * std::f64::consts::PI * f;
-        let limit = (d_hub * 2.0 * 0.2 * 2.0 * std::f64::consts::PI * high).sqrt();
+        let zeta_max = 0.5;
+        let limit = (d_hub * 2.0 * zeta_max * 2.0 * std::f64::consts::PI * high).sqrt();
         let mut bounds = bounds;
+        bounds[1] = (ParamId::ExtraModeDamping, (0.0, zeta_max));
         bounds.push((ParamId::ExtraModeDampingCoupling, (-limit, limit)));
         bounds.remove(3);
         out.push(trial(
