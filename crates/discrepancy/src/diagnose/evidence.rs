@@ -107,10 +107,15 @@ const STRUCTURE_LAGS: usize = 20;
 /// misfit — smooth, an offset, a trend — is predictable from its past and scores high; noise
 /// that follows the measurement model scores about 0.
 pub fn structure(residual: &Mat<f64>, noise: &NoiseModel) -> f64 {
+    structure_per_output(residual, noise).iter().sum()
+}
+
+/// [`structure`] output by output.
+pub fn structure_per_output(residual: &Mat<f64>, noise: &NoiseModel) -> Vec<f64> {
     use faer::linalg::solvers::SolveLstsq;
     let (k, p) = (residual.nrows(), residual.ncols());
     if k <= 4 * STRUCTURE_LAGS {
-        return 0.0;
+        return vec![0.0; p];
     }
     let rows = k - STRUCTURE_LAGS;
     (0..p)
@@ -128,7 +133,7 @@ pub fn structure(residual: &Mat<f64>, noise: &NoiseModel) -> f64 {
             }
             (0.5 * rows as f64 * (one / many).ln() - 0.5 * STRUCTURE_LAGS as f64).max(0.0)
         })
-        .sum()
+        .collect()
 }
 
 #[cfg(test)]
@@ -175,6 +180,20 @@ mod tests {
             Mat::from_fn(400, 1, |k, _| e[k] + 0.3 * (0.3 * k as f64).sin() * (-0.005 * k as f64).exp());
         let noise = NoiseModel::of(&Mat::from_fn(400, 1, |k, _| e[k]));
         assert!(structure(&misfit, &noise) > 50.0, "{}", structure(&misfit, &noise));
+    }
+
+    #[test]
+    fn structure_is_found_on_the_output_that_holds_it() {
+        // Two outputs of noise; a misfit on the second only.
+        let (a, b) = (white(400, 0.1, 7), white(400, 0.1, 8));
+        let noise = NoiseModel::of(&Mat::from_fn(400, 2, |k, o| if o == 0 { a[k] } else { b[k] }));
+        let residual = Mat::from_fn(400, 2, |k, o| {
+            if o == 0 { a[k] } else { b[k] + 0.3 * (0.3 * k as f64).sin() * (-0.005 * k as f64).exp() }
+        });
+        let per = structure_per_output(&residual, &noise);
+        assert_eq!(per.len(), 2);
+        assert!(per[0] < 15.0 && per[1] > 50.0, "{per:?}");
+        assert!((per.iter().sum::<f64>() - structure(&residual, &noise)).abs() < 1e-9);
     }
 
     #[test]

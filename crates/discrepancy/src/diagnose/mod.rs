@@ -132,6 +132,10 @@ pub struct Evidence {
     /// The share of the reference residual's predictable structure ([`evidence::structure`])
     /// that the refit removes: 1 − structure(refit)/structure(reference).
     pub structure_explained: f64,
+    /// For a sensor effect, the same share on the one output it acts on (1 where the
+    /// reference holds less than 10 nats of structure there). Reported, not a test: see
+    /// docs/diagnose.md (step 7) for why it does not separate stand-ins from true effects.
+    pub sensor_structure_explained: Option<f64>,
 }
 
 /// Why a candidate was or was not named.
@@ -352,13 +356,15 @@ pub fn diagnose_observed(
     let reference_likelihoods = likelihoods(&reference.outcome);
     let mismatch_gain = evidence::gain(&reference_likelihoods, &likelihoods(&baseline.outcome));
     let m = (data.n_samples() * data.n_outputs()) as f64;
-    let reference_structure = evidence::structure(&reference.outcome.first().residual(), &noise);
+    let reference_per_output = evidence::structure_per_output(&reference.outcome.first().residual(), &noise);
+    let reference_structure: f64 = reference_per_output.iter().sum();
+    let share = |left: f64, held: f64| if held > MIN_STRUCTURE { 1.0 - left / held } else { 1.0 };
     let explained = |outcome: &FitOutcome| {
-        if reference_structure > MIN_STRUCTURE {
-            1.0 - evidence::structure(&outcome.first().residual(), &noise) / reference_structure
-        } else {
-            1.0
-        }
+        share(evidence::structure(&outcome.first().residual(), &noise), reference_structure)
+    };
+    let explained_on = |outcome: &FitOutcome, o: usize| {
+        let left = evidence::structure_per_output(&outcome.first().residual(), &noise);
+        share(left.get(o).copied().unwrap_or(0.0), reference_per_output.get(o).copied().unwrap_or(0.0))
     };
     let mut candidates: Vec<Candidate> = trials
         .iter()
@@ -377,6 +383,7 @@ pub fn diagnose_observed(
                     reduction: 1.0 - last_error(&fit.outcome) / last_error(&reference.outcome),
                     whiteness_p: run::whiteness(&fit.outcome),
                     structure_explained: explained(&fit.outcome),
+                    sensor_structure_explained: trial.output.map(|o| explained_on(&fit.outcome, o)),
                 };
                 let verdict = if evidence.delta_bic >= -options.bic_threshold {
                     Verdict::Weak

@@ -19,6 +19,8 @@ pub struct Trial {
     pub kind: EffectKind,
     /// The slewing rig's sensor it acts on, for a sensor effect there.
     pub sensor: Option<Sensor>,
+    /// The output (column) a sensor effect acts on, on either kind of model.
+    pub output: Option<usize>,
     /// The catalog name with its target, e.g. `output_offset(theta)`.
     pub label: String,
     /// Bounds of the effect's parameters, by name.
@@ -53,6 +55,7 @@ impl Trial {
             effect,
             kind,
             sensor: None,
+            output: None,
             label,
             bounds,
             strength,
@@ -61,6 +64,12 @@ impl Trial {
             alternatives: Vec::new(),
             replaces: None,
         }
+    }
+
+    /// The trial of a sensor effect on output `o`.
+    fn on_output(mut self, o: usize) -> Self {
+        self.output = Some(o);
+        self
     }
 
     /// Adds another starting point.

@@ -132,26 +132,35 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
             vec![nonzero(ParamId::Delay)],
         ),
     ];
-    for sensor in model.sensors() {
+    for (o, sensor) in model.sensors().iter().enumerate() {
         let name = sensor.output_name();
-        out.push(trial(
-            Effect::OutputOffset { sensor: *sensor, offset: 0.0 },
-            format!("output_offset({name})"),
-            vec![],
-            vec![nonzero(ParamId::Offset(*sensor))],
-        ));
-        out.push(trial(
-            Effect::SensorScale { sensor: *sensor, scale: 0.0 },
-            format!("sensor_scale({name})"),
-            vec![(ParamId::Scale(*sensor), (-0.9, 9.0))],
-            vec![nonzero(ParamId::Scale(*sensor))],
-        ));
-        out.push(trial(
-            Effect::SensorDrift { sensor: *sensor, rate: 0.0 },
-            format!("sensor_drift({name})"),
-            vec![],
-            vec![nonzero(ParamId::Drift(*sensor))],
-        ));
+        out.push(
+            trial(
+                Effect::OutputOffset { sensor: *sensor, offset: 0.0 },
+                format!("output_offset({name})"),
+                vec![],
+                vec![nonzero(ParamId::Offset(*sensor))],
+            )
+            .on_output(o),
+        );
+        out.push(
+            trial(
+                Effect::SensorScale { sensor: *sensor, scale: 0.0 },
+                format!("sensor_scale({name})"),
+                vec![(ParamId::Scale(*sensor), (-0.9, 9.0))],
+                vec![nonzero(ParamId::Scale(*sensor))],
+            )
+            .on_output(o),
+        );
+        out.push(
+            trial(
+                Effect::SensorDrift { sensor: *sensor, rate: 0.0 },
+                format!("sensor_drift({name})"),
+                vec![],
+                vec![nonzero(ParamId::Drift(*sensor))],
+            )
+            .on_output(o),
+        );
     }
     let servo = model
         .modal()

@@ -69,28 +69,37 @@ fn trial(
 pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec<Trial> {
     let outputs = model.output_names();
     let mut out = Vec::new();
-    for name in &outputs {
-        out.push(trial(
-            Effect::OutputOffset { output: name.clone(), offset: 0.0 },
-            format!("output_offset({name})"),
-            vec![],
-            vec![Strength::Nonzero(format!("offset_{name}"))],
-            &outputs,
-        ));
-        out.push(trial(
-            Effect::SensorScale { output: name.clone(), scale: 0.0 },
-            format!("sensor_scale({name})"),
-            vec![(format!("scale_{name}"), (-0.9, 9.0))],
-            vec![Strength::Nonzero(format!("scale_{name}"))],
-            &outputs,
-        ));
-        out.push(trial(
-            Effect::SensorDrift { output: name.clone(), rate: 0.0 },
-            format!("sensor_drift({name})"),
-            vec![],
-            vec![Strength::Nonzero(format!("drift_{name}"))],
-            &outputs,
-        ));
+    for (o, name) in outputs.iter().enumerate() {
+        out.push(
+            trial(
+                Effect::OutputOffset { output: name.clone(), offset: 0.0 },
+                format!("output_offset({name})"),
+                vec![],
+                vec![Strength::Nonzero(format!("offset_{name}"))],
+                &outputs,
+            )
+            .on_output(o),
+        );
+        out.push(
+            trial(
+                Effect::SensorScale { output: name.clone(), scale: 0.0 },
+                format!("sensor_scale({name})"),
+                vec![(format!("scale_{name}"), (-0.9, 9.0))],
+                vec![Strength::Nonzero(format!("scale_{name}"))],
+                &outputs,
+            )
+            .on_output(o),
+        );
+        out.push(
+            trial(
+                Effect::SensorDrift { output: name.clone(), rate: 0.0 },
+                format!("sensor_drift({name})"),
+                vec![],
+                vec![Strength::Nonzero(format!("drift_{name}"))],
+                &outputs,
+            )
+            .on_output(o),
+        );
     }
     let matrices = model.second_order::<f64>(&model.values()).ok().flatten();
     if let Some((so, peaks)) = matrices.zip(peaks(model)) {
