@@ -61,6 +61,24 @@ fn a_sensor_bias_is_named_on_its_sensor() {
 }
 
 #[test]
+fn a_sensor_rounding_with_the_noise_after_it_is_quantization_on_that_sensor() {
+    // q3 rounded to 3 noise σ, the noise added after the rounding: the readings' own lattice is
+    // blurred (coherence e^{-2π²/9} ≈ 0.11, too little over ~470 moving samples to confirm),
+    // while the residual about the fitted response is the rounding's sawtooth. The script's
+    // step: 3 × 1 % of the clean q3's RMS = 1.9426e-4 m.
+    let d = run("quant_after_q3");
+    let named = d.named().expect("a named effect");
+    assert_eq!(named.label, "sensor_quantization(q3)");
+    let lattice = named.lattice.expect("its lattice");
+    assert!((lattice.step / 1.9426e-4 - 1.0).abs() < 0.02, "step {}", lattice.step);
+    assert!(
+        matches!(lattice.form, discrepancy::quantization::LatticeForm::Sawtooth { .. }),
+        "{:?}",
+        lattice.form
+    );
+}
+
+#[test]
 fn an_excited_roof_appendage_is_an_unmodeled_mode_at_its_frequency() {
     // 40 kg at 28 Hz on the roof, released 10 mm from its rest position.
     let d = run("appendage_excited_q3");
