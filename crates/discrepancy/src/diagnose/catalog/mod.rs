@@ -150,8 +150,12 @@ pub fn trials(model: &Model, localisation: &Localisation) -> Vec<Trial> {
 /// Cycles an unmodeled mode must complete within the record.
 const MIN_CYCLES: f64 = 3.0;
 
-/// Where an unmodeled mode may be: lightly damped physical modes of the baseline's residual and
-/// of the data itself, at most two, more than `margin` (relative) from each frequency in `avoid`
+/// The damping ratio below which a mode ERA finds is taken as a seed for an unmodeled mode
+/// coupled through inertia or stiffness (a mode coupled through damping allows more).
+const LIGHTLY_DAMPED: f64 = 0.2;
+
+/// Where an unmodeled mode may be: physical modes of the baseline's residual and of the data
+/// itself damped less than `max_damping`, at most two, more than `margin` (relative) from each frequency in `avoid`
 /// and 10 % from each other, with the frequency within a factor 2 of the seed and `margin` clear
 /// of the frequencies to avoid. The slewing rig avoids only its servo mode (25 %): a mode near a
 /// modelled flexible mode is allowed there, because coupled to the hub a new mode and a modelled
@@ -159,13 +163,18 @@ const MIN_CYCLES: f64 = 3.0;
 /// reproduces, while near the servo a heavily coupled "mode" would only reshape the servo's own
 /// response. A structure's extra mode adds to the outputs without coupling, so near any of the
 /// modelled modes it would only stand in for a change of that mode: it avoids them all (15 %).
-fn mode_seeds(avoid: &[f64], margin: f64, localisation: &Localisation) -> Vec<(f64, f64, (f64, f64))> {
+fn mode_seeds(
+    avoid: &[f64],
+    margin: f64,
+    max_damping: f64,
+    localisation: &Localisation,
+) -> Vec<(f64, f64, (f64, f64))> {
     let record = localisation.windows.last().map_or(f64::INFINITY, |w| w.1);
     let mut seeds: Vec<(f64, f64, (f64, f64))> = Vec::new();
     for m in localisation.residual_modes.iter().chain(&localisation.data_modes) {
         let f = m.frequency_hz;
         let near_servo = avoid.iter().any(|s| (f / s - 1.0).abs() < margin);
-        if !(m.physical && m.damping_ratio < 0.2)
+        if !(m.physical && m.damping_ratio < max_damping)
             || near_servo
             || seeds.iter().any(|s| (s.0 / f - 1.0).abs() < 0.1)
         {

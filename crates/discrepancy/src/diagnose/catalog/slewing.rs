@@ -1,7 +1,7 @@
 //! The slewing rig's candidates: saturations, friction, drag, a cubic spring and a delay in the
 //! loop, sensor effects, and an unmodeled mode coupled to the hub.
 
-use super::{Demand, Strength, Trial, mode_seeds};
+use super::{Demand, LIGHTLY_DAMPED, Strength, Trial, mode_seeds};
 use crate::localise::Localisation;
 use plant::{Effect, EffectKind, ModeKind, ParamId, SlewingModel};
 
@@ -167,7 +167,8 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
         .ok()
         .and_then(|rows| rows.into_iter().find(|r| r.kind == ModeKind::Servo))
         .map(|r| r.frequency_hz);
-    for (f, zeta, (low, high)) in mode_seeds(&servo.into_iter().collect::<Vec<_>>(), 0.25, localisation) {
+    let servo: Vec<f64> = servo.into_iter().collect();
+    for (f, zeta, (low, high)) in mode_seeds(&servo, 0.25, LIGHTLY_DAMPED, localisation) {
         let damping = zeta.clamp(0.005, 0.15);
         let bounds = vec![
             (ParamId::ExtraModeFrequency, (low, high)),
@@ -199,18 +200,23 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
             bounds[..4].to_vec(),
             vec![nonzero(ParamId::ExtraModeStiffnessCoupling)],
         ));
-        // Through damping: a damper between the hub and the mode. The damping matrix stays
-        // positive semi-definite for c_d² ≤ d_hub·2ζω, d_hub = C_v + K_bK_t/R_a. The damper
-        // damps the mode as well (its share of 2ζω is at least c_d²/d_hub), so a mode coupled
-        // this way strongly is a well damped one: its damping ratio may reach 0.5.
+    }
+    // Through damping: a damper between the hub and the mode. The damping matrix stays positive
+    // semi-definite for c_d² ≤ d_hub·2ζω, d_hub = C_v + K_bK_t/R_a. The damper damps the mode as
+    // well (its share of 2ζω is at least c_d²/d_hub), so a mode coupled this way strongly is a
+    // well damped one: its damping ratio may reach 0.5, and so may its seed's.
+    let zeta_max = 0.5;
+    for (f, zeta, (low, high)) in mode_seeds(&servo, 0.25, zeta_max, localisation) {
+        let damping = zeta.clamp(0.005, 0.9 * zeta_max);
         let d_hub = c.viscous_damping + c.back_emf_constant * c.torque_constant / c.armature_resistance;
         let omega = 2.0 * std::f64::consts::PI * f;
-        let zeta_max = 0.5;
         let limit = (d_hub * 2.0 * zeta_max * 2.0 * std::f64::consts::PI * high).sqrt();
-        let mut bounds = bounds;
-        bounds[1] = (ParamId::ExtraModeDamping, (0.0, zeta_max));
-        bounds.push((ParamId::ExtraModeDampingCoupling, (-limit, limit)));
-        bounds.remove(3);
+        let bounds = vec![
+            (ParamId::ExtraModeFrequency, (low, high)),
+            (ParamId::ExtraModeDamping, (0.0, zeta_max)),
+            (ParamId::ExtraModeCoupling, (-0.95 * s.inertia.sqrt(), 0.95 * s.inertia.sqrt())),
+            (ParamId::ExtraModeDampingCoupling, (-limit, limit)),
+        ];
         out.push(trial(
             Effect::UnmodeledMode {
                 frequency_hz: f,
