@@ -170,7 +170,7 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
     let servo: Vec<f64> = servo.into_iter().collect();
     for (f, zeta, (low, high)) in mode_seeds(&servo, 0.25, LIGHTLY_DAMPED, localisation) {
         let damping = zeta.clamp(0.005, 0.15);
-        let bounds = vec![
+        let bounds = [
             (ParamId::ExtraModeFrequency, (low, high)),
             (ParamId::ExtraModeDamping, (0.0, 0.2)),
             (ParamId::ExtraModeCoupling, (-0.95 * s.inertia.sqrt(), 0.95 * s.inertia.sqrt())),
