@@ -359,12 +359,14 @@ pub fn diagnose_observed(
     let reference_per_output = evidence::structure_per_output(&reference.outcome.first().residual(), &noise);
     let reference_structure: f64 = reference_per_output.iter().sum();
     let share = |left: f64, held: f64| if held > MIN_STRUCTURE { 1.0 - left / held } else { 1.0 };
-    let explained = |outcome: &FitOutcome| {
-        share(evidence::structure(&outcome.first().residual(), &noise), reference_structure)
-    };
-    let explained_on = |outcome: &FitOutcome, o: usize| {
+    // The share of the structure a refit removes, in all and on a sensor effect's own output
+    // (one AR fit per output serves both).
+    let explained = |outcome: &FitOutcome, output: Option<usize>| {
         let left = evidence::structure_per_output(&outcome.first().residual(), &noise);
-        share(left.get(o).copied().unwrap_or(0.0), reference_per_output.get(o).copied().unwrap_or(0.0))
+        let on = |o: usize| {
+            share(left.get(o).copied().unwrap_or(0.0), reference_per_output.get(o).copied().unwrap_or(0.0))
+        };
+        (share(left.iter().sum(), reference_structure), output.map(on))
     };
     let mut candidates: Vec<Candidate> = trials
         .iter()
@@ -375,6 +377,7 @@ pub fn diagnose_observed(
                 let parameters = run::effect_parameters(&fit.outcome, trial);
                 // A swap trades the replaced effect's parameters for its own.
                 let added = parameters.len() - usize::from(trial.replaces.is_some()).min(parameters.len());
+                let (structure_explained, sensor_structure_explained) = explained(&fit.outcome, trial.output);
                 let evidence = Evidence {
                     in_sample,
                     delta_bic: -2.0 * in_sample + added as f64 * m.ln(),
@@ -382,8 +385,8 @@ pub fn diagnose_observed(
                     strength_z: run::strength_z(&fit.outcome, trial),
                     reduction: 1.0 - last_error(&fit.outcome) / last_error(&reference.outcome),
                     whiteness_p: run::whiteness(&fit.outcome),
-                    structure_explained: explained(&fit.outcome),
-                    sensor_structure_explained: trial.output.map(|o| explained_on(&fit.outcome, o)),
+                    structure_explained,
+                    sensor_structure_explained,
                 };
                 let verdict = if evidence.delta_bic >= -options.bic_threshold {
                     Verdict::Weak

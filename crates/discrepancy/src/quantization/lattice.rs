@@ -1,7 +1,7 @@
 //! The lattice in the raw readings themselves: exact (noise before the quantizer) or blurred
 //! (noise after it), found on the first half of the moving samples and confirmed on the second.
 
-use super::{batch_z, moving};
+use super::{batch_z, golden_max, moving};
 
 /// The step of an exact lattice, with the number of distinct levels, if every value is
 /// c + jΔ to 10⁻⁶Δ (plus 10⁻¹² of the largest magnitude) and there are at least `min_levels`
@@ -84,17 +84,7 @@ pub fn blurred(values: &[f64], min_step: f64, threshold: f64) -> Option<(f64, f6
         step *= ratio;
     }
     // Refine by golden-section search around the best grid point.
-    let (mut a, mut b) = (best.1 / ratio, best.1 * ratio);
-    for _ in 0..60 {
-        let m1 = b - (b - a) / 1.618_033_988_75;
-        let m2 = a + (b - a) / 1.618_033_988_75;
-        if rayleigh(first, m1) > rayleigh(first, m2) {
-            b = m2;
-        } else {
-            a = m1;
-        }
-    }
-    let mut step = 0.5 * (a + b);
+    let mut step = golden_max(|s| rayleigh(first, s), best.1 / ratio, best.1 * ratio, 60);
     let r = rayleigh(first, step);
     // A sub-multiple of the true step shows the same R: take the largest multiple that keeps it.
     if let Some(k) = (2..=8)

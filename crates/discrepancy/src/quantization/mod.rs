@@ -100,6 +100,21 @@ fn moving_end(values: &[f64]) -> usize {
     values.iter().rposition(|v| (v - rest).abs() > 0.1 * reach).map_or(0, |k| k + 1)
 }
 
+/// The maximiser of a unimodal `f` on [a, b] by `iterations` steps of golden-section search
+/// (the midpoint of the last bracket).
+fn golden_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, iterations: usize) -> f64 {
+    for _ in 0..iterations {
+        let m1 = b - (b - a) / 1.618_033_988_75;
+        let m2 = a + (b - a) / 1.618_033_988_75;
+        if f(m1) > f(m2) {
+            b = m2;
+        } else {
+            a = m1;
+        }
+    }
+    0.5 * (a + b)
+}
+
 /// The mean of `projections` and its z over the batch-means standard error (20 batches, so
 /// that coloured noise does not pass for evidence).
 fn batch_z(projections: &[f64]) -> (f64, f64) {

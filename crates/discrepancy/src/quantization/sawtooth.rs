@@ -1,7 +1,7 @@
 //! A noise-after quantizer seen through the model: the residual about the fitted response is
 //! the rounding's sawtooth of that response (see the module notes of `quantization`).
 
-use super::{Lattice, LatticeForm, batch_z, moving_end};
+use super::{Lattice, LatticeForm, batch_z, golden_max, moving_end};
 
 /// The fundamental of r against the phase of x at frequency f (cycles per unit of x):
 /// 2·mean(r·exp(−2πi f x)), as (cos, sin) parts.
@@ -85,17 +85,8 @@ pub fn sawtooth(values: &[f64], fitted: &[f64], min_step: f64, threshold: f64) -
         let (c, s) = fundamental(r1, x1, f);
         c.hypot(s)
     };
-    let (mut a, mut b) = (f_lo + (best as f64 - 1.0) * df, f_lo + (best as f64 + 1.0) * df);
-    for _ in 0..40 {
-        let m1 = b - (b - a) / 1.618_033_988_75;
-        let m2 = a + (b - a) / 1.618_033_988_75;
-        if amplitude(m1) > amplitude(m2) {
-            b = m2;
-        } else {
-            a = m1;
-        }
-    }
-    let frequency = 0.5 * (a + b);
+    let frequency =
+        golden_max(amplitude, f_lo + (best as f64 - 1.0) * df, f_lo + (best as f64 + 1.0) * df, 40);
     let step = 1.0 / frequency;
     let (c, s) = fundamental(r1, x1, frequency);
     let phase = s.atan2(c);
