@@ -74,8 +74,7 @@ pub enum WorkflowError {
     },
 }
 
-/// The effect kinds `diagnose` tries (what `--only` accepts): the catalog without backlash,
-/// which is not a model effect.
+/// The effect kinds `diagnose` tries (what `--only` accepts): the whole catalog.
 pub fn catalog_kinds() -> Vec<plant::EffectKind> {
-    plant::EffectKind::ALL.into_iter().filter(|k| *k != plant::EffectKind::Backlash).collect()
+    plant::EffectKind::ALL.to_vec()
 }

@@ -14,7 +14,7 @@ fn with_effects(effects: &str) -> SlewingModel {
 
 /// Every nonlinear effect of the catalog, at strengths that visibly change the response, sharp
 /// friction included.
-const CASES: [(&str, &[&str]); 6] = [
+const CASES: [(&str, &[&str]); 7] = [
     ("AmplifierSaturation(current_limit: 1.2, sharp: false)", &["cv", "kp", "current_limit"]),
     ("VoltageSaturation(voltage_limit: 2.5, sharp: false)", &["cv", "kp", "voltage_limit"]),
     (
@@ -29,6 +29,10 @@ const CASES: [(&str, &[&str]); 6] = [
     (
         "UnmodeledMode(frequency_hz: 0.8, damping_ratio: 0.02, coupling: 0.1), AmplifierSaturation(current_limit: 1.5, sharp: false)",
         &["cv", "extra_mode_frequency", "extra_mode_coupling", "current_limit"],
+    ),
+    (
+        "Backlash(dead_band: 0.004, gear_frequency_hz: 12.0)",
+        &["cv", "kp", "backlash", "gear_frequency", "motor_inertia"],
     ),
 ];
 
@@ -63,7 +67,11 @@ fn exponential_integrator_matches_the_adaptive_solver() {
             let s = (0..k).map(|t| a.outputs[(t, o)].abs()).fold(0.0, f64::max);
             let err = (0..k).map(|t| (a.outputs[(t, o)] - b.outputs[(t, o)]).abs()).fold(0.0, f64::max);
             println!("{effects}: output {o} error {:.2e} of {s:.2e}", err / s);
-            assert!(err < 1e-5 * s, "{effects}: output {o}: {err:.3e} of {s:.3e}");
+            // A dead band's corners (the smooth limiter over a 4 mrad band, crossed by a 12 Hz
+            // gear) are the sharpest forcing here; second order in the substep, they hold the
+            // motor's rate to 10⁻⁴ (still a hundredth of the smallest sensor noise studied).
+            let tolerance = if effects.starts_with("Backlash") { 3e-4 } else { 1e-5 };
+            assert!(err < tolerance * s, "{effects}: output {o}: {err:.3e} of {s:.3e}");
         }
         for i in 0..names.len() {
             let s = (0..3 * k).map(|r| a.sensitivities[(r, i)].abs()).fold(0.0, f64::max);
@@ -71,7 +79,8 @@ fn exponential_integrator_matches_the_adaptive_solver() {
                 .map(|r| (a.sensitivities[(r, i)] - b.sensitivities[(r, i)]).abs())
                 .fold(0.0, f64::max);
             println!("{effects}: ∂/∂{} error {:.2e} of {s:.2e}", names[i], err / s);
-            assert!(err < 1e-3 * s, "{effects}: sensitivity {}: {err:.3e} of {s:.3e}", names[i]);
+            let tolerance = if effects.starts_with("Backlash") { 3e-3 } else { 1e-3 };
+            assert!(err < tolerance * s, "{effects}: sensitivity {}: {err:.3e} of {s:.3e}", names[i]);
         }
     }
 }

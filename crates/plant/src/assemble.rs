@@ -37,6 +37,8 @@ pub struct Layout {
     pub n_dof: usize,
     /// Index of the unmodeled mode's coordinate among the degrees of freedom.
     pub extra_mode: Option<usize>,
+    /// Index of the motor's angle θ_m among the degrees of freedom (with backlash).
+    pub motor: Option<usize>,
     /// State index of the Padé delay state w.
     pub delay: Option<usize>,
     /// Total number of states.
@@ -49,13 +51,17 @@ impl Layout {
         let n_modes = c.modal_damping.len();
         let has = |kind: EffectKind| c.effects.iter().any(|e| e.kind() == kind);
         let extra_mode = has(EffectKind::UnmodeledMode).then_some(n_modes + 1);
-        let n_dof = n_modes + 1 + usize::from(extra_mode.is_some());
+        let mut n_dof = n_modes + 1 + usize::from(extra_mode.is_some());
+        let motor = has(EffectKind::Backlash).then(|| {
+            n_dof += 1;
+            n_dof - 1
+        });
         let mut n_states = 2 * n_dof;
         let delay = has(EffectKind::TimeDelay).then(|| {
             n_states += 1;
             n_states - 1
         });
-        Self { n_modes, n_dof, extra_mode, delay, n_states }
+        Self { n_modes, n_dof, extra_mode, motor, delay, n_states }
     }
 }
 
@@ -140,7 +146,61 @@ pub fn second_order<D: Scalar>(c: &Constants<D>) -> Result<SecondOrder<D>, Plant
             }
         }
     }
+    if let Some(r) = layout.motor {
+        backlash_gear(c, r, &mut m, &mut d, &mut k, &mut b, &mut servo_vector);
+    }
     Ok(SecondOrder { m, d, k, b, modes, servo_stiffness: ks, servo_vector })
+}
+
+/// The gear's stiffness k_g = I_m ω_g² and damping c_g = 2ζ_g I_m ω_g of a backlash effect.
+pub fn gear<D: Scalar>(c: &Constants<D>) -> Option<(D, D)> {
+    c.effects.iter().find_map(|e| match e {
+        Effect::Backlash { gear_frequency_hz, gear_damping_ratio, .. } => {
+            let omega = *gear_frequency_hz * D::from(2.0 * std::f64::consts::PI);
+            Some((
+                c.motor_inertia * omega * omega,
+                D::from(2.0 * gear_damping_ratio) * c.motor_inertia * omega,
+            ))
+        }
+        _ => None,
+    })
+}
+
+/// Backlash: the motor (DOF `r`) is split from the hub. The hub's row loses the motor's inertia,
+/// the servo's stiffness k_s θ (θ from the potentiometer on the hub), C_v and the back-EMF,
+/// which act on the motor instead, and gains the gear k_g(θ_m − θ) + c_g(θ̇_m − θ̇) (the dead
+/// band is a nonlinear correction, [`crate::nonlinear`]). The modes' rows keep the lumped
+/// model's root-spring coupling k_sΓ_i θ, so that a rigid gear with the band closed is the
+/// lumped model exactly (adding the motor's and the hub's rows gives the lumped hub row).
+fn backlash_gear<D: Scalar>(
+    c: &Constants<D>,
+    r: usize,
+    m: &mut DMatrix<D>,
+    d: &mut DMatrix<D>,
+    k: &mut DMatrix<D>,
+    b: &mut DVector<D>,
+    servo_vector: &mut DVector<D>,
+) {
+    let (kg, cg) = gear(c).expect("the layout has a motor only with a Backlash effect");
+    let servo_damping = d[(0, 0)];
+    let ks = k[(0, 0)];
+    m[(0, 0)] -= c.motor_inertia;
+    m[(r, r)] = c.motor_inertia;
+    // The servo on the motor, fed back from the hub.
+    d[(0, 0)] = cg;
+    k[(0, 0)] = kg;
+    d[(r, r)] = servo_damping + cg;
+    k[(r, r)] = kg;
+    k[(r, 0)] = ks - kg;
+    d[(r, 0)] = -cg;
+    k[(0, r)] = -kg;
+    d[(0, r)] = -cg;
+    b[r] = b[0];
+    b[0] = D::from(0.0);
+    // A change of the servo's torque (a limit, a delay) acts on the motor alone; the gear passes
+    // it on.
+    servo_vector.fill(D::from(0.0));
+    servo_vector[r] = D::from(1.0);
 }
 
 /// The first-order form and the input directions of the servo and hub torques.

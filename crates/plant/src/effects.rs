@@ -14,6 +14,7 @@
 //! | `CubicStiffness` | `cubic_stiffness` \[N·m/rad³\] | τ = −k₃θ³ on the hub (hardening for k₃ > 0, softening for k₃ < 0) |
 //! | `TimeDelay` | `delay` \[s\] | feedback sees θ(t − τ), Padé(1,1): θ_d = −θ + w, ẇ = (2/τ)(2θ − w) |
 //! | `UnmodeledMode` | `extra_mode_frequency` \[Hz\], `extra_mode_damping`, `extra_mode_coupling` \[√kg·m\], optional `extra_mode_stiffness_coupling` \[N·m/√kg\], optional `extra_mode_damping_coupling` \[N·m·s/√kg\] | a mass-normalised mode η: η̈ + 2ζωη̇ + ω²η coupled to the hub through M (and K, and D) |
+//! | `Backlash` | `backlash` \[rad\], `gear_frequency` \[Hz\] | the motor is a body of its own (I_m), joined to the hub by a gear of stiffness k_g = I_m(2πf_g)² and damping 2ζ_g I_m 2πf_g with a dead band of total width b: τ_g = k_g dz_b(θ_m − θ) + c_g(θ̇_m − θ̇); the servo, C_v and the back-EMF act on the motor, the potentiometer reads the hub, the tachometer the motor (or the hub) |
 //! | `SensorQuantization` | — (measurement only) | y ← Δ·round(y/Δ) on one sensor |
 //! | `OutputOffset` | `offset_<output>` | y ← y + b on one sensor |
 //! | `SensorScale` | `scale_<output>` | y ← (1 + s)·y on one sensor (a calibration error) |
@@ -36,7 +37,7 @@ pub enum EffectKind {
     QuadraticDrag,
     /// Hardening or softening stiffness at the hub.
     CubicStiffness,
-    /// A dead band between motor and hub (found by its signature; not a model effect).
+    /// A dead band between motor and hub.
     Backlash,
     /// A quantized sensor.
     SensorQuantization,
@@ -153,6 +154,26 @@ pub enum Effect<D = f64> {
         /// k₃ \[N·m/rad³\]: τ = −k₃θ³.
         coefficient: D,
     },
+    /// A dead band in the gear between the motor and the hub (backlash).
+    ///
+    /// The motor becomes a degree of freedom θ_m of its own with inertia I_m (taken out of the
+    /// hub's); the servo torque, C_v and the back-EMF act on it, with the potentiometer's θ (the
+    /// hub) fed back. The gear passes τ_g = k_g dz_b(θ_m − θ) + c_g(θ̇_m − θ̇) to the hub, where
+    /// dz_b(δ) = δ − sat_{b/2}(δ) is zero inside the band (the smooth limiter of
+    /// [`Effect::AmplifierSaturation`] for sat). With the band closed and the gear rigid it is
+    /// the lumped model exactly.
+    Backlash {
+        /// Total width b of the dead band \[rad\] (`backlash`).
+        dead_band: D,
+        /// f_g = √(k_g/I_m)/2π \[Hz\] (`gear_frequency`): the motor against the gear's stiffness.
+        gear_frequency_hz: D,
+        /// Damping ratio ζ_g of the gear, c_g = 2ζ_g I_m 2πf_g (fixed; 0.05 when absent).
+        #[serde(default = "default_gear_damping")]
+        gear_damping_ratio: f64,
+        /// The tachometer reads the motor shaft (`true`, the default) or the hub.
+        #[serde(default = "default_true")]
+        tachometer_on_motor: bool,
+    },
     /// Quantization of one sensor (the potentiometer's windings); measurement-only.
     SensorQuantization {
         /// Which sensor.
@@ -204,6 +225,17 @@ pub enum Effect<D = f64> {
     },
 }
 
+/// The gear's damping ratio when a file gives none.
+pub const DEFAULT_GEAR_DAMPING: f64 = 0.05;
+
+fn default_gear_damping() -> f64 {
+    DEFAULT_GEAR_DAMPING
+}
+
+fn default_true() -> bool {
+    true
+}
+
 impl<D> Effect<D> {
     /// The effect's kind.
     pub fn kind(&self) -> EffectKind {
@@ -213,6 +245,7 @@ impl<D> Effect<D> {
             Effect::CoulombFriction { .. } => EffectKind::CoulombFriction,
             Effect::QuadraticDrag { .. } => EffectKind::QuadraticDrag,
             Effect::CubicStiffness { .. } => EffectKind::CubicStiffness,
+            Effect::Backlash { .. } => EffectKind::Backlash,
             Effect::SensorQuantization { .. } => EffectKind::SensorQuantization,
             Effect::OutputOffset { .. } => EffectKind::OutputOffset,
             Effect::SensorScale { .. } => EffectKind::SensorScale,
@@ -242,6 +275,7 @@ impl<D> Effect<D> {
                 | Effect::CoulombFriction { .. }
                 | Effect::QuadraticDrag { .. }
                 | Effect::CubicStiffness { .. }
+                | Effect::Backlash { .. }
         )
     }
 
@@ -261,6 +295,14 @@ impl<D> Effect<D> {
                 Effect::QuadraticDrag { hub: f(hub), exponent: exponent.as_ref().map(&f) }
             }
             Effect::CubicStiffness { coefficient } => Effect::CubicStiffness { coefficient: f(coefficient) },
+            Effect::Backlash { dead_band, gear_frequency_hz, gear_damping_ratio, tachometer_on_motor } => {
+                Effect::Backlash {
+                    dead_band: f(dead_band),
+                    gear_frequency_hz: f(gear_frequency_hz),
+                    gear_damping_ratio: *gear_damping_ratio,
+                    tachometer_on_motor: *tachometer_on_motor,
+                }
+            }
             Effect::SensorQuantization { sensor, step } => {
                 Effect::SensorQuantization { sensor: *sensor, step: *step }
             }

@@ -25,6 +25,9 @@ impl SlewingModel {
         if layout.extra_mode.is_some() {
             coordinates.push("eta".into());
         }
+        if layout.motor.is_some() {
+            coordinates.push("theta_m".into());
+        }
         let mut states = coordinates.clone();
         states.extend(coordinates.iter().map(|c| format!("{c}_dot")));
         if layout.delay.is_some() {

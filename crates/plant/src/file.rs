@@ -194,6 +194,15 @@ impl ModelFile {
             {
                 return Err(invalid("effects.step", *step, "must be finite and > 0".into()));
             }
+            if let Effect::Backlash { gear_damping_ratio, .. } = e
+                && !(gear_damping_ratio.is_finite() && *gear_damping_ratio >= 0.0)
+            {
+                return Err(invalid(
+                    "effects.gear_damping_ratio",
+                    *gear_damping_ratio,
+                    "must be finite and ≥ 0".into(),
+                ));
+            }
             if let Effect::CoulombFriction { smoothing_velocity, .. } = e
                 && !(smoothing_velocity.is_finite() && *smoothing_velocity > 0.0)
             {

@@ -43,7 +43,7 @@ pub mod nonlinear;
 mod params;
 mod sensors;
 
-pub use effects::{Effect, EffectKind};
+pub use effects::{DEFAULT_GEAR_DAMPING, Effect, EffectKind};
 pub use error::PlantError;
 pub use file::{
     BeamSection, ControlSection, HubSection, InitialCondition, ModelFile, MotorSection, SlewingInput, locate,

@@ -320,6 +320,11 @@ impl SlewingModel {
         if let Some(w) = layout.delay {
             x[w] = 2.0 * theta;
         }
+        // With backlash the motor starts where the hub is, in the middle of the band.
+        if let Some(r) = layout.motor {
+            x[r] = theta;
+            x[layout.n_dof + r] = self.file.initial_condition.hub_rate;
+        }
         x
     }
 

@@ -7,6 +7,10 @@
 //!   servo direction [1, Γ_1, …] (θ_c is θ, or the delayed θ_d with a time delay).
 //! * Dry friction, drag and a cubic stiffness are hub torques
 //!   τ_h = −F_c tanh(θ̇/v_s) − c_d|θ̇|ᵖ sign θ̇ − k₃θ³.
+//! * Backlash: the linear part holds the gear as a spring k_g(θ_m − θ) between motor and hub;
+//!   the dead band takes back τ_c = k_g sat_{b/2}(θ_m − θ) (the smooth limiter), from the hub
+//!   and to the motor, so that the gear passes k_g dz_b(θ_m − θ). The servo direction is then
+//!   the motor's, so τ_c joins Δτ_s; the servo's back-EMF and its limits see the motor's rate.
 
 use crate::assemble::{FirstOrder, Layout, Scalar, first_order, second_order};
 use crate::sensors::{Sensor, output_matrix};
@@ -32,6 +36,8 @@ pub struct Dynamics<D: Scalar> {
     coulomb: Option<(D, f64)>,
     drag: Option<(D, Option<D>)>,
     cubic: Option<D>,
+    /// Backlash: k_g and half the dead band.
+    backlash: Option<(D, D)>,
     amplifier_voltage_gain: D,
     armature_resistance: D,
     back_emf_constant: D,
@@ -52,6 +58,7 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
     let mut coulomb = None;
     let mut drag = None;
     let mut cubic = None;
+    let mut backlash = None;
     for e in &c.effects {
         match e {
             Effect::AmplifierSaturation { current_limit, sharp } => {
@@ -63,6 +70,10 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
             }
             Effect::QuadraticDrag { hub, exponent } => drag = Some((*hub, *exponent)),
             Effect::CubicStiffness { coefficient } => cubic = Some(*coefficient),
+            Effect::Backlash { dead_band, .. } => {
+                let (kg, _) = crate::assemble::gear(c).expect("a backlash effect has a gear");
+                backlash = Some((kg, *dead_band * D::from(0.5)));
+            }
             _ => {}
         }
     }
@@ -77,6 +88,7 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
         coulomb,
         drag,
         cubic,
+        backlash,
         amplifier_voltage_gain: c.amplifier_gain * c.position_gain,
         armature_resistance: c.armature_resistance,
         back_emf_constant: c.back_emf_constant,
@@ -102,11 +114,18 @@ impl<D: Scalar> Dynamics<D> {
             && self.coulomb.is_none()
             && self.drag.is_none()
             && self.cubic.is_none()
+            && self.backlash.is_none()
     }
 
-    /// The states the torques depend on: θ, θ̇ and the delay state if there is one.
+    /// The states the torques depend on: θ, θ̇, the delay state if there is one, and the
+    /// motor's angle and rate with backlash.
     pub fn torque_states(&self) -> Vec<usize> {
-        std::iter::once(0).chain(std::iter::once(self.layout.n_dof)).chain(self.layout.delay).collect()
+        let n = self.layout.n_dof;
+        [0, n]
+            .into_iter()
+            .chain(self.layout.delay)
+            .chain(self.layout.motor.into_iter().flat_map(|r| [r, n + r]))
+            .collect()
     }
 
     /// The constants the torques depend on (limits, coefficients, gains): a parameter whose
@@ -128,6 +147,9 @@ impl<D: Scalar> Dynamics<D> {
             out.extend(p);
         }
         out.extend(self.cubic);
+        if let Some((kg, half)) = self.backlash {
+            out.extend([kg, half]);
+        }
         out
     }
 
@@ -136,6 +158,8 @@ impl<D: Scalar> Dynamics<D> {
         let zero = D::from(0.0);
         let theta = x[0];
         let rate = x[self.layout.n_dof];
+        // The servo's back-EMF and C_v act on the motor's rate (the hub's without backlash).
+        let motor_rate = self.layout.motor.map_or(rate, |r| x[self.layout.n_dof + r]);
         let controlled = match self.layout.delay {
             Some(w) => -theta + x[w],
             None => theta,
@@ -146,15 +170,21 @@ impl<D: Scalar> Dynamics<D> {
             if let Some((limit, sharp)) = self.voltage {
                 volts = limit_with(volts, limit, sharp);
             }
-            let mut current = (volts - self.back_emf_constant * rate) / self.armature_resistance;
+            let mut current = (volts - self.back_emf_constant * motor_rate) / self.armature_resistance;
             if let Some((limit, sharp)) = self.saturation {
                 current = limit_with(current, limit, sharp);
             }
-            self.torque_constant * current + self.servo_stiffness * controlled + self.emf_damping * rate
+            self.torque_constant * current + self.servo_stiffness * controlled + self.emf_damping * motor_rate
         } else {
             zero
         };
+        let mut servo = servo;
         let mut hub = zero;
+        if let (Some((kg, half)), Some(r)) = (self.backlash, self.layout.motor) {
+            let taken = kg * dead_band_limit(x[r] - theta, half);
+            servo += taken;
+            hub -= taken;
+        }
         if let Some((torque, v_s)) = self.coulomb {
             hub -= torque * tanh(rate / D::from(v_s));
         }
@@ -191,6 +221,11 @@ impl<D: Scalar> Dynamics<D> {
             }
         }
     }
+}
+
+/// sat_h(δ) by the smooth limiter (0 for a closed band, h = 0).
+fn dead_band_limit<D: Scalar>(delta: D, half: D) -> D {
+    if half.re() <= 0.0 { D::from(0.0) } else { smooth_limit(delta, half) }
 }
 
 /// The smooth limiter, or an ideal clamp (not differentiable at the corner; truth data only).

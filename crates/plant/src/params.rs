@@ -101,6 +101,10 @@ pub enum ParamId {
     ExtraModeDamping,
     /// `extra_mode_coupling` of `UnmodeledMode`.
     ExtraModeCoupling,
+    /// `backlash` of `Backlash`: the dead band's total width.
+    Backlash,
+    /// `gear_frequency` of `Backlash`.
+    GearFrequency,
 }
 
 /// The sign a parameter may take.
@@ -130,7 +134,9 @@ const CORE: [(&str, ParamId, &str); 13] = [
     ("amplifier_gain", ParamId::AmplifierGain, "motor.amplifier_gain"),
 ];
 
-const EFFECT_PARAMS: [(&str, ParamId, &str); 12] = [
+const EFFECT_PARAMS: [(&str, ParamId, &str); 14] = [
+    ("backlash", ParamId::Backlash, "dead_band"),
+    ("gear_frequency", ParamId::GearFrequency, "gear_frequency_hz"),
     ("current_limit", ParamId::CurrentLimit, "current_limit"),
     ("voltage_limit", ParamId::VoltageLimit, "voltage_limit"),
     ("drag_exponent", ParamId::DragExponent, "exponent"),
@@ -194,7 +200,9 @@ impl ParamId {
             | ParamId::Delay
             | ParamId::VoltageLimit
             | ParamId::DragExponent
-            | ParamId::ExtraModeFrequency => SignRule::Positive,
+            | ParamId::ExtraModeFrequency
+            | ParamId::Backlash
+            | ParamId::GearFrequency => SignRule::Positive,
             ParamId::Offset(_)
             | ParamId::Scale(_)
             | ParamId::Drift(_)
@@ -250,6 +258,7 @@ impl ParamId {
                 ids
             }
             Effect::CubicStiffness { .. } => vec![ParamId::CubicStiffness],
+            Effect::Backlash { .. } => vec![ParamId::Backlash, ParamId::GearFrequency],
             Effect::SensorQuantization { .. } => vec![],
             Effect::OutputOffset { sensor, .. } => vec![ParamId::Offset(*sensor)],
             Effect::SensorScale { sensor, .. } => vec![ParamId::Scale(*sensor)],
@@ -315,6 +324,8 @@ macro_rules! effect_field {
             (Effect::QuadraticDrag { exponent: Some(p), .. }, ParamId::DragExponent) => Some(p),
             (Effect::CubicStiffness { coefficient }, ParamId::CubicStiffness) => Some(coefficient),
             (Effect::TimeDelay { delay }, ParamId::Delay) => Some(delay),
+            (Effect::Backlash { dead_band, .. }, ParamId::Backlash) => Some(dead_band),
+            (Effect::Backlash { gear_frequency_hz, .. }, ParamId::GearFrequency) => Some(gear_frequency_hz),
             (Effect::OutputOffset { sensor, offset }, ParamId::Offset(s)) if *sensor == s => Some(offset),
             (Effect::SensorScale { sensor, scale }, ParamId::Scale(s)) if *sensor == s => Some(scale),
             (Effect::SensorDrift { sensor, rate }, ParamId::Drift(s)) if *sensor == s => Some(rate),

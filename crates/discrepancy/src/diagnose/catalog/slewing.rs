@@ -84,7 +84,9 @@ fn freed(effect: &Effect) -> Vec<ParamId> {
 pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<Trial> {
     let s = scales(model);
     let c = model.constants();
-    let mut out = vec![
+    // The dearest fits first, so that the parallel fits end together.
+    let mut out = backlash(&s, model);
+    out.extend([
         out_of(&s, EffectKind::AmplifierSaturation),
         out_of(&s, EffectKind::VoltageSaturation),
         trial(
@@ -131,7 +133,7 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
             vec![(ParamId::Delay, (1e-4, 2.0))],
             vec![nonzero(ParamId::Delay)],
         ),
-    ];
+    ]);
     for (o, sensor) in model.sensors().iter().enumerate() {
         let name = sensor.output_name();
         out.push(
@@ -256,6 +258,41 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
         }
     }
     out
+}
+
+/// Backlash: a dead band between the motor and the hub, with the tachometer on the motor's shaft
+/// (where one usually sits) or on the hub, if the model has a tachometer. The band starts at 0.5 %
+/// of the initial angle and is the one parameter freed; the gear is held at 10 Hz. A gear's
+/// ringing is rarely resolved in a decimated record, while the band shows as lost motion at every
+/// reversal; freeing the gear's frequency too let the fit wander along a flat direction and more
+/// than doubled the diagnosis time on the development set (`memid fit` frees it on request).
+fn backlash(s: &Scales, model: &SlewingModel) -> Vec<Trial> {
+    let placements: &[bool] =
+        if model.sensors().contains(&plant::Sensor::Tachometer) { &[true, false] } else { &[true] };
+    placements
+        .iter()
+        .map(|&on_motor| {
+            let effect = |band: f64, f: f64| Effect::Backlash {
+                dead_band: band * s.theta0,
+                gear_frequency_hz: f,
+                gear_damping_ratio: plant::DEFAULT_GEAR_DAMPING,
+                tachometer_on_motor: on_motor,
+            };
+            let label = if placements.len() == 1 {
+                "backlash".to_string()
+            } else {
+                format!("backlash(tachometer on the {})", if on_motor { "motor" } else { "hub" })
+            };
+            let mut t = trial(
+                effect(0.005, 10.0),
+                label,
+                vec![(ParamId::Backlash, (1e-7, 0.2 * s.theta0))],
+                vec![nonzero(ParamId::Backlash)],
+            );
+            t.freed = vec![ParamId::Backlash.name()];
+            t
+        })
+        .collect()
 }
 
 /// The catalog's saturation trial of `kind` (amplifier current or voltage limit).
