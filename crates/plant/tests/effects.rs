@@ -185,3 +185,69 @@ fn setting_a_parameter_of_an_absent_effect_is_an_error() {
     let err = m.set(plant::ParamId::CurrentLimit, 1.0).unwrap_err().to_string();
     assert!(err.contains("current_limit") && err.contains("cv"), "{err}");
 }
+
+/// The eigenvalues of A as complex numbers (upper half plane and real axis).
+fn eigenvalues(m: &SlewingModel) -> Vec<(f64, f64)> {
+    let a = m.dynamics_with(|v| *v).unwrap().a;
+    let a = faer::Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)]);
+    plant::modes_of(&a, m.layout().n_dof).unwrap().into_iter().map(|r| r.eigenvalue).collect()
+}
+
+#[test]
+fn backlash_with_a_stiff_gear_and_a_closed_band_is_the_lumped_model() {
+    // Adding the motor's row to the hub's gives the lumped hub row, so as the gear stiffens the
+    // lumped model's eigenvalues reappear, with an error O((ω/ω_g)²); the gear adds its own.
+    let lumped = eigenvalues(&SlewingModel::paper());
+    let worst = |gear_hz: f64| {
+        let m = with_effects(&format!("Backlash(dead_band: 1e-12, gear_frequency_hz: {gear_hz})"));
+        assert_eq!(m.layout().n_dof, 5, "a motor degree of freedom");
+        let split = eigenvalues(&m);
+        lumped
+            .iter()
+            .map(|&(re, im)| {
+                let size = (re * re + im * im).sqrt();
+                split
+                    .iter()
+                    .map(|&(r, i)| ((r - re).powi(2) + (i - im).powi(2)).sqrt())
+                    .fold(f64::INFINITY, f64::min)
+                    / size
+            })
+            .fold(0.0, f64::max)
+    };
+    // (Beyond a few hundred Hz the eigensolver's rounding, ε‖A‖ with ‖A‖ ∝ f_g², takes over.)
+    let (coarse, fine) = (worst(10.0), worst(100.0));
+    println!("largest relative eigenvalue error: {coarse:.2e} at 10 Hz, {fine:.2e} at 100 Hz");
+    assert!(fine < 1e-4, "100 Hz gear: {fine:.2e}");
+    assert!(fine < coarse / 50.0, "second order in 1/f_g: {coarse:.2e} → {fine:.2e}");
+}
+
+#[test]
+fn backlash_passes_no_torque_inside_its_band_and_the_gear_beyond_it() {
+    // Band b = 10 mrad (half 5 mrad), hub at 0.1 rad, at rest. With the motor 20 mrad ahead the
+    // gear passes k_g·(20 − 5) mrad: the dynamics are those of a closed band with the motor 15 mrad
+    // ahead. With the motor 1 mrad ahead it passes nothing: those of a closed band with none.
+    let f = |band: f64, ahead: f64| {
+        let m = with_effects(&format!(
+            "Backlash(dead_band: {band:e}, gear_frequency_hz: 12.0, tachometer_on_motor: false)"
+        ));
+        let layout = m.layout();
+        let mut x = vec![0.0; layout.n_states];
+        x[0] = 0.1;
+        x[layout.motor.unwrap()] = 0.1 + ahead;
+        let mut out = vec![0.0; layout.n_states];
+        m.dynamics_with(|v| *v).unwrap().rhs(&x, &mut out);
+        out
+    };
+    let close = |a: &[f64], b: &[f64], tolerance: f64| {
+        let scale = b.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+        let err = a.iter().zip(b).fold(0.0f64, |s, (x, y)| s.max((x - y).abs()));
+        assert!(err <= tolerance * scale, "{err:.3e} of {scale:.3e}");
+    };
+    close(&f(0.01, 0.02), &f(1e-12, 0.015), 1e-4);
+    let gear_scale = f(1e-12, 0.001);
+    let inside = f(0.01, 0.001);
+    let rest = f(1e-12, 0.0);
+    let err = inside.iter().zip(&rest).fold(0.0f64, |s, (x, y)| s.max((x - y).abs()));
+    let scale = gear_scale.iter().zip(&rest).fold(0.0f64, |s, (x, y)| s.max((x - y).abs()));
+    assert!(err < 1e-5 * scale, "inside the band: {err:.3e} against a closed band's {scale:.3e}");
+}

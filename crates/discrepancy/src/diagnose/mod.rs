@@ -468,6 +468,9 @@ pub fn diagnose_observed(
     let chosen = choose(&candidates, options.threshold);
     if let Some(i) = chosen {
         candidates[i].verdict = Verdict::Named;
+        if let Some(trial) = trials.get(i) {
+            polish(&mut candidates[i], trial, &reference_free, &data);
+        }
     }
     // Named first, then by held-out evidence, then in-sample.
     let mut indexed: Vec<(usize, Candidate)> = candidates.into_iter().enumerate().collect();
@@ -492,6 +495,27 @@ pub fn diagnose_observed(
         chosen,
         threshold: options.threshold,
     })
+}
+
+/// A named effect whose trial held a shape parameter that only the named effect can determine
+/// (a backlash's gear frequency) is refitted with it free, from its fit, and reports those
+/// estimates; the evidence that named it is unchanged. A failed or worse refit changes nothing.
+fn polish(candidate: &mut Candidate, trial: &Trial, free: &[String], data: &Measurement) {
+    if candidate.kind != EffectKind::Backlash {
+        return;
+    }
+    let gear = plant::ParamId::GearFrequency.name();
+    let mut wider = trial.clone();
+    wider.freed.push(gear);
+    let Some(from) = candidate.model.as_ref() else { return };
+    let all: Vec<String> = free.iter().chain(&wider.freed).cloned().collect();
+    let Ok(outcome) = run::refit(from, data, &all, None, 60) else { return };
+    let before = candidate.outcome.as_ref().map_or(f64::INFINITY, last_error);
+    if last_error(&outcome) <= before {
+        candidate.parameters = run::effect_parameters(&outcome, &wider);
+        candidate.model = Some(outcome.fitted.clone());
+        candidate.outcome = Some(outcome);
+    }
 }
 
 /// The named candidate: a proven lattice that matters first (a measurement fact), else the

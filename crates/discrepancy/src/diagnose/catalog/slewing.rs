@@ -260,12 +260,16 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
     out
 }
 
+/// Where a named backlash's gear frequency is fitted \[Hz\].
+const GEAR_RANGE: (f64, f64) = (1.0, 100.0);
+
 /// Backlash: a dead band between the motor and the hub, with the tachometer on the motor's shaft
 /// (where one usually sits) or on the hub, if the model has a tachometer. The band starts at 0.5 %
 /// of the initial angle and is the one parameter freed; the gear is held at 10 Hz. A gear's
 /// ringing is rarely resolved in a decimated record, while the band shows as lost motion at every
 /// reversal; freeing the gear's frequency too let the fit wander along a flat direction and more
-/// than doubled the diagnosis time on the development set (`memid fit` frees it on request).
+/// than doubled the diagnosis time on the development set. Once named, the band is refitted with
+/// the gear's frequency free (`super::super::polish`).
 fn backlash(s: &Scales, model: &SlewingModel) -> Vec<Trial> {
     let placements: &[bool] =
         if model.sensors().contains(&plant::Sensor::Tachometer) { &[true, false] } else { &[true] };
@@ -286,7 +290,7 @@ fn backlash(s: &Scales, model: &SlewingModel) -> Vec<Trial> {
             let mut t = trial(
                 effect(0.005, 10.0),
                 label,
-                vec![(ParamId::Backlash, (1e-7, 0.2 * s.theta0))],
+                vec![(ParamId::Backlash, (1e-7, 0.2 * s.theta0)), (ParamId::GearFrequency, GEAR_RANGE)],
                 vec![nonzero(ParamId::Backlash)],
             );
             t.freed = vec![ParamId::Backlash.name()];
