@@ -2,7 +2,11 @@
 //! readings (exact, blurred, then the model-based sawtooth, which is what a noise-after
 //! quantizer needs), and a whole diagnosis of the shear building whose q3 sensor rounds with
 //! the noise after the rounding (`fixtures/independent/effects/quant_after_q3.csv`, 2,001
-//! samples, 5 free parameters, every candidate of the structure catalog).
+//! samples, 5 free parameters, every candidate of the structure catalog). For backlash, the
+//! slewing catalog's dearest candidate: one exponential-integrator response with sensitivities of
+//! the rig with a geared dead band (12.8 Hz, 30 s, C_v, K_p and the band free) beside the same
+//! rig with a Coulomb friction, and a whole diagnosis of the independent backlash record
+//! (`fixtures/independent/effects/slewing_backlash.csv`, decimated to 12.8 Hz).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use discrepancy::{DiagnoseOptions, diagnose, quantization};
@@ -38,5 +42,40 @@ fn bench_diagnose(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_diagnose);
+fn bench_backlash(c: &mut Criterion) {
+    let paper = std::fs::read_to_string(fixture("slewing.ron")).unwrap();
+    let with = |effect: &str| {
+        let text = paper.replace("    free:", &format!("    effects: [{effect}],\n    free:"));
+        plant::SlewingModel::from_ron(&text, "bench.ron").unwrap()
+    };
+    let mut group = c.benchmark_group("diagnose");
+    group.sample_size(10);
+    for (name, effect, strength) in [
+        (
+            "backlash",
+            "Backlash(dead_band: 0.008, gear_frequency_hz: 10.0, tachometer_on_motor: false)",
+            "backlash",
+        ),
+        ("coulomb", "CoulombFriction(torque: 0.01, smoothing_velocity: 0.003)", "coulomb_torque"),
+    ] {
+        let model = with(effect);
+        let free = ["cv", "kp", strength];
+        let p: Vec<f64> = free.iter().map(|n| model.get(model.parameter(n).unwrap())).collect();
+        let response = models::ExponentialResponse::new(model, &free).unwrap();
+        let mut out = expm::Response::zeros(385, 3, free.len());
+        group.bench_function(format!("respond_12.8Hz/{name}"), |b| {
+            b.iter(|| response.simulate(black_box(&p), 0.0, 1.0 / 12.8, &mut out).unwrap())
+        });
+    }
+    let model = Model::load(&fixture("slewing.ron")).unwrap();
+    let data = mem::Measurement::read_csv(&fixture("independent/effects/slewing_backlash.csv")).unwrap();
+    let mut options = DiagnoseOptions::new(&["cv", "kp"]);
+    options.decimate = Some(10);
+    group.bench_function("diagnose/slewing_backlash_12.8Hz", |b| {
+        b.iter(|| diagnose(black_box(&model), &data, &options).unwrap())
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench_diagnose, bench_backlash);
 criterion_main!(benches);
