@@ -99,11 +99,19 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
 }
 
 /// The smooth current limiter i / (1 + (i/I)⁸)^{1/8}.
+///
+/// Beyond the limit it is evaluated as sign(i)·I / (1 + (I/i)⁸)^{1/8}, the same function: r⁸
+/// never overflows, so value and derivatives stay finite for a limit however small against the
+/// current (a dead band fitted down to nothing, a saturation far below the demand).
 pub fn smooth_limit<D: Scalar>(current: D, limit: D) -> D {
-    let r = current / limit;
     // (1 + r⁸)^{−1/8} by three square roots: the same value, far cheaper than a power.
-    let root = DualNum::sqrt(&DualNum::sqrt(&DualNum::sqrt(&(D::from(1.0) + DualNum::powi(&r, 8)))));
-    current / root
+    let root = |r: D| DualNum::sqrt(&DualNum::sqrt(&DualNum::sqrt(&(D::from(1.0) + DualNum::powi(&r, 8)))));
+    if current.re().abs() <= limit.re().abs() {
+        current / root(current / limit)
+    } else {
+        let sign = if (current.re() < 0.0) == (limit.re() < 0.0) { 1.0 } else { -1.0 };
+        limit * D::from(sign) / root(limit / current)
+    }
 }
 
 impl<D: Scalar> Dynamics<D> {

@@ -116,6 +116,37 @@ fn smooth_limiter_is_linear_below_and_clamped_above() {
     }
 }
 
+/// The limiter and its derivatives against the closed form y = i(1 + (i/I)⁸)^{−1/8},
+/// ∂y/∂i = (1 + r⁸)^{−9/8}, ∂y/∂I = r⁹(1 + r⁸)^{−9/8} (r = i/I), on both sides of the limit and
+/// at ratios whose eighth power overflows (a dead band fitted down to nothing).
+#[test]
+fn smooth_limiter_derivatives_stay_finite_for_any_ratio() {
+    use num_dual::Dual64;
+    for (i, limit) in
+        [(0.3, 1.0), (-0.9, 1.0), (1.1, 1.0), (-4.0, 1.0), (0.01, 1e-40), (-0.02, 1e-300), (1e-3, 2e-3)]
+    {
+        let r: f64 = i / limit;
+        // r⁸ by logarithms, so the reference does not overflow either.
+        let q = (8.0 * r.abs().ln()).exp();
+        let (value, d_i, d_limit) = if q.is_finite() {
+            let w = (1.0 + q).powf(-1.0 / 8.0);
+            (i * w, w / (1.0 + q), r * w / (1.0 + q) * q)
+        } else {
+            (limit * r.signum(), 0.0, r.signum())
+        };
+        let by_i = smooth_limit(Dual64::new(i, 1.0), Dual64::from(limit));
+        let by_limit = smooth_limit(Dual64::from(i), Dual64::new(limit, 1.0));
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1e-300);
+        assert!(close(by_i.re, value), "value at ({i}, {limit}): {} vs {value}", by_i.re);
+        assert!(
+            close(by_i.eps, d_i) || (d_i.abs() < 1e-300 && by_i.eps.abs() < 1e-280),
+            "∂/∂i at ({i}, {limit}): {} vs {d_i}",
+            by_i.eps
+        );
+        assert!(close(by_limit.eps, d_limit), "∂/∂I at ({i}, {limit}): {} vs {d_limit}", by_limit.eps);
+    }
+}
+
 #[test]
 fn effect_parameters_have_exact_derivatives() {
     let m = with_effects(

@@ -150,8 +150,9 @@ impl std::fmt::Display for Warning {
             }
             Warning::ActiveBound { parameter, side, bound, release_gain } => write!(
                 f,
-                "`{parameter}` stopped on its {} bound {bound}; the data pull it beyond (releasing the bound would lower ‖Y_error‖ by about {:.1} %): its interval is one-sided",
+                "`{parameter}` stopped on its {} bound {}; the data pull it beyond (releasing the bound would lower ‖Y_error‖ by about {:.1} %): its interval is one-sided",
                 if *side == Side::Lower { "lower" } else { "upper" },
+                Number(*bound),
                 100.0 * release_gain
             ),
             Warning::DerivativeMismatch { parameter, mismatch } => write!(
@@ -369,5 +370,41 @@ fn termination_warning(termination: Termination, iterations: usize) -> Option<Wa
         Termination::MaxIterations => Some(Warning::IterationCap { iterations }),
         Termination::Diverged => Some(Warning::Diverged),
         Termination::Converged => None,
+    }
+}
+
+/// A number as a reader takes it in: plain between 10⁻⁴ and 10⁶, in exponent form outside (the
+/// smallest positive bound would otherwise print as 300 zeros); always the shortest form that
+/// reads back to the same value.
+struct Number(f64);
+
+impl std::fmt::Display for Number {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || !a.is_finite() || (1e-4..1e6).contains(&a) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Number;
+
+    #[test]
+    fn numbers_print_short_and_read_back() {
+        for (x, text) in [
+            (f64::MIN_POSITIVE, "2.2250738585072014e-308"),
+            (0.25, "0.25"),
+            (0.0, "0"),
+            (3e7, "3e7"),
+            (-1.5e-6, "-1.5e-6"),
+        ] {
+            let shown = Number(x).to_string();
+            assert_eq!(shown, text);
+            assert_eq!(shown.parse::<f64>().unwrap(), x);
+        }
     }
 }

@@ -272,13 +272,9 @@ fn one_sided(
     // term raises the cost inward).
     let a = 2.0 * g.abs();
     let threshold = ONE_SIDED_95 * variance;
-    let d = if e > 0.0 {
-        (-a + (a * a + 4.0 * e * threshold).sqrt()) / (2.0 * e)
-    } else if a > 0.0 {
-        threshold / a
-    } else {
-        f64::INFINITY
-    };
+    // The positive root of e d² + a d = threshold, rationalised: no cancellation for a small e,
+    // 0 (not NaN) when the slope overflows, ∞ when neither term grows.
+    let d = 2.0 * threshold / (a + (a * a + 4.0 * e.max(0.0) * threshold).sqrt());
     Ok(match side {
         Side::Lower => Interval::OneSided { lower: bound, upper: bound + d },
         Side::Upper => Interval::OneSided { lower: bound - d, upper: bound },
