@@ -49,6 +49,7 @@ fn an_offset_is_named_on_its_sensor_and_the_gap_shrinks() {
     let d = diagnose(&SlewingModel::paper().into(), &record(&truth, 5), &options()).unwrap();
     let named = d.named().expect("an offset of many noise sigma is named");
     assert_eq!(named.label, "output_offset(theta_dot)", "{:?}", d.answer());
+    assert!(d.scale_equivalents.is_empty(), "only a scale has equivalents: {:?}", d.scale_equivalents);
     assert!(d.augmented_error() < 0.5 * d.baseline_error());
     let offset = named.parameters.iter().find(|p| p.name == "offset_theta_dot").unwrap();
     let se = offset.std_error.expect("determined");
@@ -136,4 +137,20 @@ fn a_driven_model_is_refused_in_one_sentence() {
     let err = diagnose(&driven.into(), &data, &options()).unwrap_err();
     assert!(matches!(err, discrepancy::WorkflowError::Driven { .. }), "{err}");
     assert!(err.to_string().contains("theta_ref"));
+}
+
+/// A beam 5 % thicker than the file says, nothing else: the strain gauge reads (h/2)·curvature,
+/// so the record is the file's model with the strain scaled by 1.05 — named a gauge scale, with
+/// the thickness reported as the parameter the data cannot tell it from.
+#[test]
+fn a_strain_scale_names_the_thickness_it_cannot_be_told_from() {
+    let truth = edited(|t| t.replace("thickness: 0.00079375", "thickness: 0.0008334375"));
+    assert_eq!(truth.get(truth.parameter("thickness").unwrap()), 0.0008334375, "the edit took");
+    let d = diagnose(&SlewingModel::paper().into(), &record(&truth, 7), &options()).unwrap();
+    let named = d.named().expect("a 5 % scale of many noise sigma is named");
+    assert_eq!(named.label, "sensor_scale(strain)", "{:?}", d.answer());
+    let scale = named.parameters.iter().find(|p| p.name == "scale_strain").unwrap();
+    assert!((scale.value - 0.05).abs() < 0.005, "{}", scale.value);
+    assert_eq!(d.scale_equivalents, ["thickness"], "{:?}", d.answer());
+    assert!(d.answer().iter().any(|s| s.contains("`thickness`")), "{:?}", d.answer());
 }

@@ -217,6 +217,9 @@ pub struct Diagnosis {
     pub chosen: Option<usize>,
     /// The held-out gain an effect needed (nats).
     pub threshold: f64,
+    /// For a named sensor scale: the model's parameters (not refitted) that scale that output
+    /// alone, so that the data cannot tell the named calibration error from an error in them.
+    pub scale_equivalents: Vec<String>,
 }
 
 impl Diagnosis {
@@ -466,10 +469,17 @@ pub fn diagnose_observed(
         candidates.extend(quantization_candidates(&start, &raw, &data, &reference, &reference_free)?);
     }
     let chosen = choose(&candidates, options.threshold);
+    let mut scale_equivalents = Vec::new();
     if let Some(i) = chosen {
         candidates[i].verdict = Verdict::Named;
         if let Some(trial) = trials.get(i) {
             polish(&mut candidates[i], trial, &reference_free, &data);
+            if let (EffectKind::SensorScale, Some(output), Some(fitted)) =
+                (trial.kind, trial.output, candidates[i].model.as_ref())
+            {
+                let refitted: Vec<String> = reference_free.iter().chain(&trial.freed).cloned().collect();
+                scale_equivalents = scale_equivalents_of(fitted, &data, output, &refitted);
+            }
         }
     }
     // Named first, then by held-out evidence, then in-sample.
@@ -494,7 +504,53 @@ pub fn diagnose_observed(
         candidates,
         chosen,
         threshold: options.threshold,
+        scale_equivalents,
     })
+}
+
+/// The model's parameters (other than the refitted ones) whose only effect is to scale output
+/// `output`: each sensitivity column confined to that output (the others' share below 10⁻⁹)
+/// and proportional to it (cosine above 1 − 10⁻⁹). A named scale of that output is then exactly
+/// a change of any of them (the slewing rig's beam thickness, which turns root curvature into
+/// surface strain), and no record of these outputs tells a calibration error from that
+/// parameter's. Empty if the sensitivities cannot be had.
+fn scale_equivalents_of(
+    model: &Model,
+    data: &Measurement,
+    output: usize,
+    refitted: &[String],
+) -> Vec<String> {
+    let names: Vec<String> = model.parameter_names().into_iter().filter(|n| !refitted.contains(n)).collect();
+    let refs: Vec<&str> = names.iter().map(|s| s.as_str()).collect();
+    let Ok(values) = names.iter().map(|n| model.value(n)).collect::<Result<Vec<f64>, _>>() else {
+        return Vec::new();
+    };
+    let Ok(r) = model.response(&refs).map_err(|e| e.to_string()).and_then(|response| {
+        mem::sampled_response(response.as_ref(), data, &values).map_err(|e| e.to_string())
+    }) else {
+        return Vec::new();
+    };
+    let (k, n_out) = (r.outputs.nrows(), r.outputs.ncols());
+    names
+        .into_iter()
+        .enumerate()
+        .filter(|&(i, _)| {
+            let (mut own, mut other, mut dot, mut power) = (0.0, 0.0, 0.0, 0.0);
+            for t in 0..k {
+                for o in 0..n_out {
+                    let s = r.sensitivities[(t * n_out + o, i)];
+                    if o == output {
+                        let y = r.outputs[(t, o)];
+                        (own, dot, power) = (own + s * s, dot + s * y, power + y * y);
+                    } else {
+                        other += s * s;
+                    }
+                }
+            }
+            own > 0.0 && other <= 1e-18 * own && dot * dot >= (1.0 - 1e-9) * own * power
+        })
+        .map(|(_, name)| name)
+        .collect()
 }
 
 /// A named effect whose trial held a shape parameter that only the named effect can determine

@@ -32,6 +32,9 @@ pub struct DiagnosisReport<'a> {
     pub candidates: &'a [super::Candidate],
     /// Where the baseline disagrees with the data.
     pub localisation: &'a Localisation,
+    /// For a named sensor scale: the model's parameters that scale that output alone, which the
+    /// data cannot tell from the named calibration error (empty otherwise).
+    pub equivalent_parameters: &'a [String],
 }
 
 impl Diagnosis {
@@ -75,6 +78,16 @@ impl Diagnosis {
                     (None, None) => c.label.clone(),
                 };
                 let mut out = vec![why];
+                if !self.scale_equivalents.is_empty() {
+                    out.push(format!(
+                        "the model's {} scale{} that output alone: these data cannot tell a sensor calibration error \
+                         from an error in {}; measure {} to tell them apart",
+                        self.scale_equivalents.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", "),
+                        if self.scale_equivalents.len() == 1 { "s" } else { "" },
+                        if self.scale_equivalents.len() == 1 { "it" } else { "them" },
+                        if self.scale_equivalents.len() == 1 { "it" } else { "them" },
+                    ));
+                }
                 // A rival within the threshold is not told apart by these data.
                 if let Some(x) = c.evidence.held_out {
                     for r in self.candidates.iter().filter(|r| r.verdict == Verdict::Outscored) {
@@ -138,6 +151,7 @@ impl Diagnosis {
             noise: &self.noise,
             candidates: &self.candidates,
             localisation: &self.localisation,
+            equivalent_parameters: &self.scale_equivalents,
         }
     }
 }
