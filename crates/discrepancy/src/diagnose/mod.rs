@@ -22,6 +22,8 @@
 
 pub mod catalog;
 pub mod evidence;
+mod named;
+mod quantized;
 mod report;
 mod residual;
 mod run;
@@ -32,12 +34,14 @@ pub use residual::{Band, ResidualStructure};
 
 use crate::WorkflowError;
 use crate::localise::{Localisation, localise};
-use crate::quantization::{self, Lattice};
+use crate::quantization::Lattice;
 use catalog::Trial;
 use evidence::NoiseModel;
 use mem::Measurement;
 use models::{FitOutcome, Model, align};
+use named::{choose, polish, scale_equivalents_of};
 use plant::{EffectKind, Sensor};
+use quantized::quantization_candidates;
 use rayon::prelude::*;
 use run::{Fitted, Folds};
 use serde::Serialize;
@@ -506,172 +510,6 @@ pub fn diagnose_observed(
         threshold: options.threshold,
         scale_equivalents,
     })
-}
-
-/// The model's parameters (other than the refitted ones) whose only effect is to scale output
-/// `output`: each sensitivity column confined to that output (the others' share below 10⁻⁹)
-/// and proportional to it (cosine above 1 − 10⁻⁹). A named scale of that output is then exactly
-/// a change of any of them (the slewing rig's beam thickness, which turns root curvature into
-/// surface strain), and no record of these outputs tells a calibration error from that
-/// parameter's. Empty if the sensitivities cannot be had.
-fn scale_equivalents_of(
-    model: &Model,
-    data: &Measurement,
-    output: usize,
-    refitted: &[String],
-) -> Vec<String> {
-    let names: Vec<String> = model.parameter_names().into_iter().filter(|n| !refitted.contains(n)).collect();
-    let refs: Vec<&str> = names.iter().map(|s| s.as_str()).collect();
-    let Ok(values) = names.iter().map(|n| model.value(n)).collect::<Result<Vec<f64>, _>>() else {
-        return Vec::new();
-    };
-    let Ok(r) = model.response(&refs).map_err(|e| e.to_string()).and_then(|response| {
-        mem::sampled_response(response.as_ref(), data, &values).map_err(|e| e.to_string())
-    }) else {
-        return Vec::new();
-    };
-    let (k, n_out) = (r.outputs.nrows(), r.outputs.ncols());
-    names
-        .into_iter()
-        .enumerate()
-        .filter(|&(i, _)| {
-            let (mut own, mut other, mut dot, mut power) = (0.0, 0.0, 0.0, 0.0);
-            for t in 0..k {
-                for o in 0..n_out {
-                    let s = r.sensitivities[(t * n_out + o, i)];
-                    if o == output {
-                        let y = r.outputs[(t, o)];
-                        (own, dot, power) = (own + s * s, dot + s * y, power + y * y);
-                    } else {
-                        other += s * s;
-                    }
-                }
-            }
-            own > 0.0 && other <= 1e-18 * own && dot * dot >= (1.0 - 1e-9) * own * power
-        })
-        .map(|(_, name)| name)
-        .collect()
-}
-
-/// A named effect whose trial held a shape parameter that only the named effect can determine
-/// (a backlash's gear frequency) is refitted with it free, from its fit, and reports those
-/// estimates; the evidence that named it is unchanged. A failed or worse refit changes nothing.
-fn polish(candidate: &mut Candidate, trial: &Trial, free: &[String], data: &Measurement) {
-    if candidate.kind != EffectKind::Backlash {
-        return;
-    }
-    let gear = plant::ParamId::GearFrequency.name();
-    let mut wider = trial.clone();
-    wider.freed.push(gear);
-    let Some(from) = candidate.model.as_ref() else { return };
-    let all: Vec<String> = free.iter().chain(&wider.freed).cloned().collect();
-    let Ok(outcome) = run::refit(from, data, &all, None, 60) else { return };
-    let before = candidate.outcome.as_ref().map_or(f64::INFINITY, last_error);
-    if last_error(&outcome) <= before {
-        candidate.parameters = run::effect_parameters(&outcome, &wider);
-        candidate.model = Some(outcome.fitted.clone());
-        candidate.outcome = Some(outcome);
-    }
-}
-
-/// The named candidate: a proven lattice that matters first (a measurement fact), else the
-/// candidate with the most held-out evidence beyond a mismatch among those that pass.
-fn choose(candidates: &[Candidate], threshold: f64) -> Option<usize> {
-    let lattice = candidates
-        .iter()
-        .enumerate()
-        .filter(|(_, c)| c.kind == EffectKind::SensorQuantization && c.verdict == Verdict::Outscored)
-        .max_by(|(_, a), (_, b)| {
-            let ratio = |c: &Candidate| c.lattice.map_or(0.0, |l| l.step / l.noise.max(f64::MIN_POSITIVE));
-            ratio(a).total_cmp(&ratio(b))
-        })
-        .map(|(i, _)| i);
-    lattice.or_else(|| {
-        let passing: Vec<(usize, &Candidate)> = candidates
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| c.verdict == Verdict::Outscored && c.kind != EffectKind::SensorQuantization)
-            .collect();
-        let held_out = |c: &Candidate| c.evidence.held_out.unwrap_or(f64::NEG_INFINITY);
-        let best = passing.iter().map(|(_, c)| held_out(c)).fold(f64::NEG_INFINITY, f64::max);
-        // Held-out gains closer than the threshold are not told apart; among those, the
-        // in-sample evidence with its parameter penalty (ΔBIC) decides.
-        passing
-            .into_iter()
-            .filter(|(_, c)| best - held_out(c) < threshold)
-            .min_by(|(_, a), (_, b)| a.evidence.delta_bic.total_cmp(&b.evidence.delta_bic))
-            .map(|(i, _)| i)
-    })
-}
-
-/// The z a blurred lattice's phase, or a sawtooth's fundamental, must hold by on the second half
-/// of the moving samples.
-const LATTICE_Z: f64 = 8.0;
-
-/// One candidate per sensor not yet quantized whose raw readings hold a lattice; named
-/// (`Outscored` until chosen) when the lattice matters, refitted with the quantizer on `data`
-/// (the record as fitted, decimated if asked).
-fn quantization_candidates(
-    start: &Model,
-    raw: &Measurement,
-    data: &Measurement,
-    reference: &Fitted,
-    free: &[String],
-) -> Result<Vec<Candidate>, WorkflowError> {
-    let baseline = &reference.outcome;
-    let response = baseline.fitted.response(&[])?;
-    let fitted = mem::sampled_response(response.as_ref(), raw, &[])?.outputs;
-    let mut out = Vec::new();
-    let quantized = start.quantization();
-    for (o, name) in start.output_names().iter().enumerate() {
-        if quantized[o].is_some() {
-            continue;
-        }
-        let values: Vec<f64> = (0..raw.n_samples()).map(|k| raw.values()[(k, o)]).collect();
-        let predicted: Vec<f64> = (0..raw.n_samples()).map(|k| fitted[(k, o)]).collect();
-        let Some(lattice) = quantization::detect(&values, &predicted, LATTICE_Z) else { continue };
-        let (sensor, effect) = match start {
-            Model::Slewing(m) => {
-                let sensor = m.sensors()[o];
-                (Some(sensor), plant::Effect::SensorQuantization { sensor, step: lattice.step }.into())
-            }
-            Model::Structure(_) => (
-                None,
-                structure::Effect::SensorQuantization { output: name.clone(), step: lattice.step }.into(),
-            ),
-        };
-        let mut candidate = Candidate {
-            kind: EffectKind::SensorQuantization,
-            sensor,
-            label: format!("sensor_quantization({name})"),
-            replaces: None,
-            parameters: vec![EffectParameter {
-                name: format!("quantization_step_{name}"),
-                value: lattice.step,
-                std_error: None,
-            }],
-            evidence: Evidence::default(),
-            lattice: Some(lattice),
-            verdict: if lattice.matters() { Verdict::Outscored } else { Verdict::NoLattice },
-            model: None,
-            outcome: None,
-        };
-        if lattice.matters() {
-            let mut model = start.clone();
-            model.add_effect(effect)?;
-            match run::refit(&model, data, free, None, 60) {
-                Ok(outcome) => {
-                    candidate.evidence.reduction = 1.0 - last_error(&outcome) / last_error(baseline);
-                    candidate.evidence.whiteness_p = run::whiteness(&outcome);
-                    candidate.model = Some(outcome.fitted.clone());
-                    candidate.outcome = Some(outcome);
-                }
-                Err(e) => candidate.verdict = Verdict::Failed(e.to_string()),
-            }
-        }
-        out.push(candidate);
-    }
-    Ok(out)
 }
 
 fn failed(trial: &Trial, why: String) -> Candidate {

@@ -1,0 +1,105 @@
+//! The named effect: which candidate is named ([`choose`]), the refit that frees what only the
+//! named effect determines ([`polish`]), and the model parameters a named sensor scale cannot be
+//! told from ([`scale_equivalents_of`]).
+
+use super::catalog::Trial;
+use super::{Candidate, Verdict, last_error, run};
+use mem::Measurement;
+use models::Model;
+use plant::EffectKind;
+
+/// The model's parameters (other than the refitted ones) whose only effect is to scale output
+/// `output`: each sensitivity column confined to that output (the others' share below 10⁻⁹)
+/// and proportional to it (cosine above 1 − 10⁻⁹). A named scale of that output is then exactly
+/// a change of any of them (the slewing rig's beam thickness, which turns root curvature into
+/// surface strain), and no record of these outputs tells a calibration error from that
+/// parameter's. Empty if the sensitivities cannot be had.
+pub(super) fn scale_equivalents_of(
+    model: &Model,
+    data: &Measurement,
+    output: usize,
+    refitted: &[String],
+) -> Vec<String> {
+    let names: Vec<String> = model.parameter_names().into_iter().filter(|n| !refitted.contains(n)).collect();
+    let refs: Vec<&str> = names.iter().map(|s| s.as_str()).collect();
+    let Ok(values) = names.iter().map(|n| model.value(n)).collect::<Result<Vec<f64>, _>>() else {
+        return Vec::new();
+    };
+    let Ok(r) = model.response(&refs).map_err(|e| e.to_string()).and_then(|response| {
+        mem::sampled_response(response.as_ref(), data, &values).map_err(|e| e.to_string())
+    }) else {
+        return Vec::new();
+    };
+    let (k, n_out) = (r.outputs.nrows(), r.outputs.ncols());
+    names
+        .into_iter()
+        .enumerate()
+        .filter(|&(i, _)| {
+            let (mut own, mut other, mut dot, mut power) = (0.0, 0.0, 0.0, 0.0);
+            for t in 0..k {
+                for o in 0..n_out {
+                    let s = r.sensitivities[(t * n_out + o, i)];
+                    if o == output {
+                        let y = r.outputs[(t, o)];
+                        (own, dot, power) = (own + s * s, dot + s * y, power + y * y);
+                    } else {
+                        other += s * s;
+                    }
+                }
+            }
+            own > 0.0 && other <= 1e-18 * own && dot * dot >= (1.0 - 1e-9) * own * power
+        })
+        .map(|(_, name)| name)
+        .collect()
+}
+
+/// A named effect whose trial held a shape parameter that only the named effect can determine
+/// (a backlash's gear frequency) is refitted with it free, from its fit, and reports those
+/// estimates; the evidence that named it is unchanged. A failed or worse refit changes nothing.
+pub(super) fn polish(candidate: &mut Candidate, trial: &Trial, free: &[String], data: &Measurement) {
+    if candidate.kind != EffectKind::Backlash {
+        return;
+    }
+    let gear = plant::ParamId::GearFrequency.name();
+    let mut wider = trial.clone();
+    wider.freed.push(gear);
+    let Some(from) = candidate.model.as_ref() else { return };
+    let all: Vec<String> = free.iter().chain(&wider.freed).cloned().collect();
+    let Ok(outcome) = run::refit(from, data, &all, None, 60) else { return };
+    let before = candidate.outcome.as_ref().map_or(f64::INFINITY, last_error);
+    if last_error(&outcome) <= before {
+        candidate.parameters = run::effect_parameters(&outcome, &wider);
+        candidate.model = Some(outcome.fitted.clone());
+        candidate.outcome = Some(outcome);
+    }
+}
+
+/// The named candidate: a proven lattice that matters first (a measurement fact), else the
+/// candidate with the most held-out evidence beyond a mismatch among those that pass.
+pub(super) fn choose(candidates: &[Candidate], threshold: f64) -> Option<usize> {
+    let lattice = candidates
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.kind == EffectKind::SensorQuantization && c.verdict == Verdict::Outscored)
+        .max_by(|(_, a), (_, b)| {
+            let ratio = |c: &Candidate| c.lattice.map_or(0.0, |l| l.step / l.noise.max(f64::MIN_POSITIVE));
+            ratio(a).total_cmp(&ratio(b))
+        })
+        .map(|(i, _)| i);
+    lattice.or_else(|| {
+        let passing: Vec<(usize, &Candidate)> = candidates
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.verdict == Verdict::Outscored && c.kind != EffectKind::SensorQuantization)
+            .collect();
+        let held_out = |c: &Candidate| c.evidence.held_out.unwrap_or(f64::NEG_INFINITY);
+        let best = passing.iter().map(|(_, c)| held_out(c)).fold(f64::NEG_INFINITY, f64::max);
+        // Held-out gains closer than the threshold are not told apart; among those, the
+        // in-sample evidence with its parameter penalty (ΔBIC) decides.
+        passing
+            .into_iter()
+            .filter(|(_, c)| best - held_out(c) < threshold)
+            .min_by(|(_, a), (_, b)| a.evidence.delta_bic.total_cmp(&b.evidence.delta_bic))
+            .map(|(i, _)| i)
+    })
+}

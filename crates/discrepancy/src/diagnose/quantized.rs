@@ -1,0 +1,80 @@
+//! Quantization as a measurement model: a candidate per sensor whose raw readings hold a
+//! lattice (`crate::quantization`), refitted with the quantizer when the lattice matters.
+
+use super::{Candidate, EffectParameter, Evidence, Verdict, last_error, run};
+use crate::WorkflowError;
+use crate::quantization;
+use mem::Measurement;
+use models::Model;
+use plant::EffectKind;
+use run::Fitted;
+
+/// The z a blurred lattice's phase, or a sawtooth's fundamental, must hold by on the second half
+/// of the moving samples.
+const LATTICE_Z: f64 = 8.0;
+
+/// One candidate per sensor not yet quantized whose raw readings hold a lattice; named
+/// (`Outscored` until chosen) when the lattice matters, refitted with the quantizer on `data`
+/// (the record as fitted, decimated if asked).
+pub(super) fn quantization_candidates(
+    start: &Model,
+    raw: &Measurement,
+    data: &Measurement,
+    reference: &Fitted,
+    free: &[String],
+) -> Result<Vec<Candidate>, WorkflowError> {
+    let baseline = &reference.outcome;
+    let response = baseline.fitted.response(&[])?;
+    let fitted = mem::sampled_response(response.as_ref(), raw, &[])?.outputs;
+    let mut out = Vec::new();
+    let quantized = start.quantization();
+    for (o, name) in start.output_names().iter().enumerate() {
+        if quantized[o].is_some() {
+            continue;
+        }
+        let values: Vec<f64> = (0..raw.n_samples()).map(|k| raw.values()[(k, o)]).collect();
+        let predicted: Vec<f64> = (0..raw.n_samples()).map(|k| fitted[(k, o)]).collect();
+        let Some(lattice) = quantization::detect(&values, &predicted, LATTICE_Z) else { continue };
+        let (sensor, effect) = match start {
+            Model::Slewing(m) => {
+                let sensor = m.sensors()[o];
+                (Some(sensor), plant::Effect::SensorQuantization { sensor, step: lattice.step }.into())
+            }
+            Model::Structure(_) => (
+                None,
+                structure::Effect::SensorQuantization { output: name.clone(), step: lattice.step }.into(),
+            ),
+        };
+        let mut candidate = Candidate {
+            kind: EffectKind::SensorQuantization,
+            sensor,
+            label: format!("sensor_quantization({name})"),
+            replaces: None,
+            parameters: vec![EffectParameter {
+                name: format!("quantization_step_{name}"),
+                value: lattice.step,
+                std_error: None,
+            }],
+            evidence: Evidence::default(),
+            lattice: Some(lattice),
+            verdict: if lattice.matters() { Verdict::Outscored } else { Verdict::NoLattice },
+            model: None,
+            outcome: None,
+        };
+        if lattice.matters() {
+            let mut model = start.clone();
+            model.add_effect(effect)?;
+            match run::refit(&model, data, free, None, 60) {
+                Ok(outcome) => {
+                    candidate.evidence.reduction = 1.0 - last_error(&outcome) / last_error(baseline);
+                    candidate.evidence.whiteness_p = run::whiteness(&outcome);
+                    candidate.model = Some(outcome.fitted.clone());
+                    candidate.outcome = Some(outcome);
+                }
+                Err(e) => candidate.verdict = Verdict::Failed(e.to_string()),
+            }
+        }
+        out.push(candidate);
+    }
+    Ok(out)
+}
