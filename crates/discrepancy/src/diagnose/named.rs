@@ -13,7 +13,7 @@ use plant::EffectKind;
 /// and proportional to it (cosine above 1 − 10⁻⁹). A named scale of that output is then exactly
 /// a change of any of them (the slewing rig's beam thickness, which turns root curvature into
 /// surface strain), and no record of these outputs tells a calibration error from that
-/// parameter's. Empty if the sensitivities cannot be had.
+/// parameter's. Empty if the sensitivities cannot be had (then nothing is claimed).
 pub(super) fn scale_equivalents_of(
     model: &Model,
     data: &Measurement,
@@ -25,7 +25,10 @@ pub(super) fn scale_equivalents_of(
     let Ok(values) = names.iter().map(|n| model.value(n)).collect::<Result<Vec<f64>, _>>() else {
         return Vec::new();
     };
-    let Ok(r) = model.response(&refs).map_err(|e| e.to_string()).and_then(|response| {
+    // The integrator every candidate was fitted with (a nonlinear model would otherwise get the
+    // adaptive solver, with a sensitivity per parameter of the file).
+    let integrator = models::Integrator::Exponential { max_step: run::max_step(model) };
+    let Ok(r) = model.response_with(&refs, integrator).map_err(|e| e.to_string()).and_then(|response| {
         mem::sampled_response(response.as_ref(), data, &values).map_err(|e| e.to_string())
     }) else {
         return Vec::new();

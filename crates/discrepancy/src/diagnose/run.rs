@@ -81,7 +81,7 @@ pub(super) fn refit(
 /// the adaptive solver's outputs (a dead band's motor rate within 6·10⁻⁴ of its peak, a few
 /// hundredths of the sensor noise) — `models/tests/exponential.rs` holds both substeps — for
 /// half the cost of every candidate's fit.
-fn max_step(model: &Model) -> f64 {
+pub(super) fn max_step(model: &Model) -> f64 {
     let default = models::exponential::DEFAULT_MAX_STEP;
     match model {
         Model::Structure(_) => model

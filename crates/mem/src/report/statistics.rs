@@ -272,13 +272,25 @@ fn one_sided(
     // term raises the cost inward).
     let a = 2.0 * g.abs();
     let threshold = ONE_SIDED_95 * variance;
-    // The positive root of e d² + a d = threshold, rationalised: no cancellation for a small e,
-    // 0 (not NaN) when the slope overflows, ∞ when neither term grows.
-    let d = 2.0 * threshold / (a + (a * a + 4.0 * e.max(0.0) * threshold).sqrt());
+    let d = one_sided_width(a, e, threshold);
     Ok(match side {
         Side::Lower => Interval::OneSided { lower: bound, upper: bound + d },
         Side::Upper => Interval::OneSided { lower: bound - d, upper: bound },
     })
+}
+
+/// The positive root d of e d² + a d = threshold (a, threshold ≥ 0), rationalised as
+/// 2·threshold/(a + √(a² + 4 e threshold)): no cancellation for a small e, 0 (not NaN) when the
+/// slope overflows or the threshold is 0 (a perfect fit), ∞ when neither term grows.
+fn one_sided_width(a: f64, e: f64, threshold: f64) -> f64 {
+    let denominator = a + (a * a + 4.0 * e.max(0.0) * threshold).sqrt();
+    if denominator > 0.0 {
+        2.0 * threshold / denominator
+    } else if e > 0.0 {
+        0.0
+    } else {
+        f64::INFINITY
+    }
 }
 
 /// The fraction of the error the linear model predicts would go if parameter i (held on a
@@ -300,4 +312,24 @@ pub(crate) fn release_gain(
         StepSolver::from_owned(columns(&last.sensitivity, free), &last.residual, cutoff)?.step(0.0).1
     };
     Ok(if last.cost > 0.0 { ((released - held) / last.cost).clamp(0.0, 1.0) } else { 0.0 })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::one_sided_width;
+
+    /// Against the textbook root (−a + √(a² + 4et))/(2e) where it is well conditioned, and the
+    /// limits where it is not.
+    #[test]
+    fn one_sided_width_is_the_positive_root_and_never_nan() {
+        for (a, e, t) in [(1.0f64, 2.0, 3.0), (0.5, 1e-3, 2.7), (0.0, 4.0, 2.7)] {
+            let textbook = (-a + (a * a + 4.0 * e * t).sqrt()) / (2.0 * e);
+            assert!((one_sided_width(a, e, t) / textbook - 1.0).abs() < 1e-12, "{a} {e} {t}");
+        }
+        assert!((one_sided_width(2.0, 0.0, 3.0) - 1.5).abs() < 1e-15, "linear: t/a");
+        assert_eq!(one_sided_width(f64::INFINITY, 1.0, 2.7), 0.0, "an overflowing slope");
+        assert_eq!(one_sided_width(0.0, 1.0, 0.0), 0.0, "a perfect fit");
+        assert_eq!(one_sided_width(0.0, 0.0, 2.7), f64::INFINITY, "nothing grows");
+        assert_eq!(one_sided_width(0.0, 0.0, 0.0), f64::INFINITY, "nothing grows, perfect fit");
+    }
 }
