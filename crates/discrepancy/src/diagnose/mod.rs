@@ -405,7 +405,7 @@ pub fn diagnose_observed(
                 Candidate {
                     kind: trial.kind,
                     sensor: trial.sensor,
-                    label: trial.label.clone(),
+                    label: trial.label_at(&fit.outcome),
                     replaces: trial.replaces,
                     parameters,
                     evidence,

@@ -144,7 +144,26 @@ pub fn fit_trial(
             (Some(Ok(b)), Err(_)) => Ok(b),
         });
     }
-    Ok(Fitted { outcome: best.expect("a trial has a start")? })
+    let mut outcome = best.expect("a trial has a start")?;
+    // A resonance pressing on a bound of its search range is followed there (`Located`).
+    if let Some(located) = &trial.located {
+        let mut range = trial.bounds.iter().find(|(n, _)| *n == located.name).map(|(_, b)| *b);
+        for _ in 0..super::catalog::Located::MAX_MOVES {
+            let report = &outcome.report;
+            let Some(i) = report.names.iter().position(|n| *n == located.name) else { break };
+            let (Some(side), Some(now)) = (report.on_bound[i], range) else { break };
+            let Some(next) = located.moved(now, report.parameters[i], side) else { break };
+            let mut model = outcome.fitted.clone();
+            model.set_bounds(&located.name, next)?;
+            let Ok(moved) = refit(&model, data, &free, sample_weights, iterations) else { break };
+            range = Some(next);
+            if last_error(&moved) > last_error(&outcome) {
+                break;
+            }
+            outcome = moved;
+        }
+    }
+    Ok(Fitted { outcome })
 }
 
 fn last_error(outcome: &FitOutcome) -> f64 {
@@ -183,7 +202,7 @@ pub fn strength_z(outcome: &FitOutcome, trial: &Trial) -> f64 {
     let index = |name: &str| report.names.iter().position(|n| n == name);
     // A mode is a resonance the data must locate: one whose frequency ends on a bound of its
     // search range was not found there, whatever its coupling does.
-    if trial.located.as_deref().and_then(index).is_some_and(|i| report.on_bound[i].is_some()) {
+    if trial.located.as_ref().and_then(|l| index(&l.name)).is_some_and(|i| report.on_bound[i].is_some()) {
         return 0.0;
     }
     let strength: Vec<&str> = trial.strength.iter().flat_map(|s| s.names()).collect();
@@ -360,11 +379,12 @@ pub fn held_out(
     let outcome = match from {
         HeldOut::Reference(model) => refit(model, data, free, Some(train), HELD_OUT_ITERATIONS)?,
         HeldOut::Candidate(trial, fitted) => {
-            let mut model = match fitted {
+            // The full refit's model carries its trial's bounds (a resonance's range as it
+            // was last moved).
+            let model = match fitted {
                 Some(m) => m.clone(),
                 None => return Err(WorkflowError::Unscored(trial.label.clone())),
             };
-            with_bounds(&mut model, trial)?;
             let free = names(free, trial.freed.iter().cloned());
             refit(&model, data, &free, Some(train), HELD_OUT_ITERATIONS)?
         }

@@ -29,9 +29,10 @@ pub struct Trial {
     pub strength: Vec<Strength>,
     /// The parameters the trial frees besides the baseline's.
     pub freed: Vec<String>,
-    /// A resonance's frequency parameter, which the data must locate inside its range (a
-    /// refit that ends on a bound of it found no mode there).
-    pub located: Option<String>,
+    /// A resonance's frequency, which the data must locate inside its search range (a refit
+    /// that still ends on a bound of it, once the range has moved as far as it may, found no
+    /// mode there).
+    pub located: Option<Located>,
     /// Other starting values of the same effect: a nonlinear effect's error surface can hold
     /// a local minimum in which the free parameters partly stand in for it, and the refit keeps
     /// the best of its starts.
@@ -66,6 +67,19 @@ impl Trial {
         }
     }
 
+    /// The label of the trial as fitted in `outcome`: a resonance is named at the frequency
+    /// the refit located it at.
+    pub fn label_at(&self, outcome: &models::FitOutcome) -> String {
+        let report = &outcome.report;
+        self.located
+            .as_ref()
+            .and_then(|l| {
+                let i = report.names.iter().position(|n| *n == l.name)?;
+                Some(format!("{}{:.2} Hz)", l.prefix, report.parameters[i]))
+            })
+            .unwrap_or_else(|| self.label.clone())
+    }
+
     /// The trial of a sensor effect on output `o`.
     fn on_output(mut self, o: usize) -> Self {
         self.output = Some(o);
@@ -77,6 +91,53 @@ impl Trial {
         self.alternatives.push(effect.into());
         self
     }
+}
+
+/// A resonance's frequency parameter and where the data may locate it.
+///
+/// The search range is a factor 2 about the seed; a refit that ends on one of its bounds moves
+/// it a factor 2 further that way and refits from there (at most [`Located::MAX_MOVES`] times,
+/// never past `limits`): a heavily damped mode is seldom seeded where it is (ERA on a short,
+/// noisy record sees a band, not a peak), and a refit pressing on a bound is following it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Located {
+    /// The frequency parameter's name.
+    pub name: String,
+    /// How far the range may move: three cycles in the record, and clear of the frequencies the
+    /// catalog avoids.
+    pub limits: (f64, f64),
+    /// The trial's label up to the frequency (`unmodeled_mode(damping, `): the label names the
+    /// frequency where the refit located the mode, not its seed.
+    pub prefix: String,
+}
+
+impl Located {
+    /// How many times a search range may move.
+    pub const MAX_MOVES: usize = 2;
+
+    /// The range after a refit ended at `f` on `side` of its range (None if it cannot move).
+    pub fn moved(&self, range: (f64, f64), f: f64, side: mem::Side) -> Option<(f64, f64)> {
+        let (low, high) = self.limits;
+        let next = match side {
+            mem::Side::Lower if range.0 > low * (1.0 + 1e-9) => ((0.5 * f).max(low), (2.0 * f).min(high)),
+            mem::Side::Upper if range.1 < high * (1.0 - 1e-9) => ((0.5 * f).max(low), (2.0 * f).min(high)),
+            _ => return None,
+        };
+        (next.0 < f && f < next.1).then_some(next)
+    }
+}
+
+/// Where an unmodeled mode is looked for first.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Seed {
+    /// Frequency \[Hz\].
+    frequency: f64,
+    /// Damping ratio.
+    damping: f64,
+    /// The search range: a factor 2 about the frequency, within `limits`.
+    range: (f64, f64),
+    /// How far the range may move ([`Located`]).
+    limits: (f64, f64),
 }
 
 /// A parameter that measures an effect's strength, and where the effect vanishes.
@@ -163,39 +224,53 @@ const LIGHTLY_DAMPED: f64 = 0.2;
 /// reproduces, while near the servo a heavily coupled "mode" would only reshape the servo's own
 /// response. A structure's extra mode adds to the outputs without coupling, so near any of the
 /// modelled modes it would only stand in for a change of that mode: it avoids them all (15 %).
-fn mode_seeds(
-    avoid: &[f64],
-    margin: f64,
-    max_damping: f64,
-    localisation: &Localisation,
-) -> Vec<(f64, f64, (f64, f64))> {
+fn mode_seeds(avoid: &[f64], margin: f64, max_damping: f64, localisation: &Localisation) -> Vec<Seed> {
     let record = localisation.windows.last().map_or(f64::INFINITY, |w| w.1);
-    let mut seeds: Vec<(f64, f64, (f64, f64))> = Vec::new();
+    let mut seeds: Vec<Seed> = Vec::new();
     for m in localisation.residual_modes.iter().chain(&localisation.data_modes) {
         let f = m.frequency_hz;
         let near_servo = avoid.iter().any(|s| (f / s - 1.0).abs() < margin);
         if !(m.physical && m.damping_ratio < max_damping)
             || near_servo
-            || seeds.iter().any(|s| (s.0 / f - 1.0).abs() < 0.1)
+            || seeds.iter().any(|s| (s.frequency / f - 1.0).abs() < 0.1)
         {
             continue;
         }
         // A mode needs three cycles in the record to be told from a trend.
-        let (mut low, mut high) = (0.5 * f, 2.0 * f);
-        low = low.max(MIN_CYCLES / record);
+        let mut limits = (MIN_CYCLES / record, f64::INFINITY);
         for &s in avoid {
             if s < f {
-                low = low.max((1.0 + margin) * s);
+                limits.0 = limits.0.max((1.0 + margin) * s);
             } else {
-                high = high.min(s / (1.0 + margin));
+                limits.1 = limits.1.min(s / (1.0 + margin));
             }
         }
-        if low < f && f < high {
-            seeds.push((f, m.damping_ratio, (low, high)));
+        let range = ((0.5 * f).max(limits.0), (2.0 * f).min(limits.1));
+        if range.0 < f && f < range.1 {
+            seeds.push(Seed { frequency: f, damping: m.damping_ratio, range, limits });
         }
         if seeds.len() == 2 {
             break;
         }
     }
     seeds
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mem::Side;
+
+    #[test]
+    fn a_range_moves_a_factor_two_past_the_bound_reached_and_stops_at_its_limits() {
+        let located = Located { name: "f".into(), limits: (0.3, 10.0), prefix: "m(".into() };
+        // Seeded at 1.6 Hz: (0.8, 3.2); the refit ends on the lower bound.
+        assert_eq!(located.moved((0.8, 3.2), 0.8, Side::Lower), Some((0.4, 1.6)));
+        // Next time the limit cuts the range; once on the limit it cannot move.
+        assert_eq!(located.moved((0.4, 1.6), 0.4, Side::Lower), Some((0.3, 0.8)));
+        assert_eq!(located.moved((0.3, 0.8), 0.3, Side::Lower), None);
+        // Upwards alike.
+        assert_eq!(located.moved((0.8, 3.2), 3.2, Side::Upper), Some((1.6, 6.4)));
+        assert_eq!(located.moved((3.2, 10.0), 10.0, Side::Upper), None);
+    }
 }

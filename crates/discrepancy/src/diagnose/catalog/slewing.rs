@@ -1,7 +1,7 @@
 //! The slewing rig's candidates: saturations, friction, drag, a cubic spring and a delay in the
 //! loop, sensor effects, and an unmodeled mode coupled to the hub.
 
-use super::{Demand, LIGHTLY_DAMPED, Strength, Trial, mode_seeds};
+use super::{Demand, LIGHTLY_DAMPED, Located, Seed, Strength, Trial, mode_seeds};
 use crate::localise::Localisation;
 use plant::{Effect, EffectKind, ModeKind, ParamId, SlewingModel};
 
@@ -51,11 +51,22 @@ fn trial(
     let kind = effect.kind();
     let sensor = effect.sensor();
     let freed = freed(&effect).into_iter().map(ParamId::name).collect();
-    let located = matches!(effect, Effect::UnmodeledMode { .. }).then(|| ParamId::ExtraModeFrequency.name());
     let bounds = bounds.into_iter().map(|(id, b)| (id.name(), b)).collect();
     let mut t = Trial::new(effect.into(), kind, label, bounds, strength, freed);
     t.sensor = sensor;
-    t.located = located;
+    t
+}
+
+/// The trial of an unmodeled mode from `seed`.
+fn mode_trial(
+    effect: Effect,
+    prefix: String,
+    bounds: Vec<(ParamId, (f64, f64))>,
+    strength: Vec<Strength>,
+    seed: &Seed,
+) -> Trial {
+    let mut t = trial(effect, format!("{prefix}{:.2} Hz)", seed.frequency), bounds, strength);
+    t.located = Some(Located { name: ParamId::ExtraModeFrequency.name(), limits: seed.limits, prefix });
     t
 }
 
@@ -170,15 +181,16 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
         .and_then(|rows| rows.into_iter().find(|r| r.kind == ModeKind::Servo))
         .map(|r| r.frequency_hz);
     let servo: Vec<f64> = servo.into_iter().collect();
-    for (f, zeta, (low, high)) in mode_seeds(&servo, 0.25, LIGHTLY_DAMPED, localisation) {
-        let damping = zeta.clamp(0.005, 0.15);
+    for seed in mode_seeds(&servo, 0.25, LIGHTLY_DAMPED, localisation) {
+        let (f, (low, high)) = (seed.frequency, seed.range);
+        let damping = seed.damping.clamp(0.005, 0.15);
         let bounds = [
             (ParamId::ExtraModeFrequency, (low, high)),
             (ParamId::ExtraModeDamping, (0.0, 0.2)),
             (ParamId::ExtraModeCoupling, (-0.95 * s.inertia.sqrt(), 0.95 * s.inertia.sqrt())),
             (ParamId::ExtraModeStiffnessCoupling, (-100.0 * s.servo_stiffness, 100.0 * s.servo_stiffness)),
         ];
-        out.push(trial(
+        out.push(mode_trial(
             Effect::UnmodeledMode {
                 frequency_hz: f,
                 damping_ratio: damping,
@@ -186,11 +198,12 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
                 stiffness_coupling: None,
                 damping_coupling: None,
             },
-            format!("unmodeled_mode(inertia, {f:.2} Hz)"),
+            "unmodeled_mode(inertia, ".into(),
             bounds[..3].to_vec(),
             vec![nonzero(ParamId::ExtraModeCoupling)],
+            &seed,
         ));
-        out.push(trial(
+        out.push(mode_trial(
             Effect::UnmodeledMode {
                 frequency_hz: f,
                 damping_ratio: damping,
@@ -198,9 +211,10 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
                 stiffness_coupling: Some(0.02 * s.servo_stiffness),
                 damping_coupling: None,
             },
-            format!("unmodeled_mode(stiffness, {f:.2} Hz)"),
+            "unmodeled_mode(stiffness, ".into(),
             bounds[..4].to_vec(),
             vec![nonzero(ParamId::ExtraModeStiffnessCoupling)],
+            &seed,
         ));
     }
     // Through damping: a damper between the hub and the mode. The damping matrix stays positive
@@ -208,8 +222,9 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
     // well (its share of 2ζω is at least c_d²/d_hub), so a mode coupled this way strongly is a
     // well damped one: its damping ratio may reach 0.5, and so may its seed's.
     let zeta_max = 0.5;
-    for (f, zeta, (low, high)) in mode_seeds(&servo, 0.25, zeta_max, localisation) {
-        let damping = zeta.clamp(0.005, 0.9 * zeta_max);
+    for seed in mode_seeds(&servo, 0.25, zeta_max, localisation) {
+        let (f, (low, high)) = (seed.frequency, seed.range);
+        let damping = seed.damping.clamp(0.005, 0.9 * zeta_max);
         let d_hub = c.viscous_damping + c.back_emf_constant * c.torque_constant / c.armature_resistance;
         let omega = 2.0 * std::f64::consts::PI * f;
         let limit = (d_hub * 2.0 * zeta_max * 2.0 * std::f64::consts::PI * high).sqrt();
@@ -219,7 +234,7 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
             (ParamId::ExtraModeCoupling, (-0.95 * s.inertia.sqrt(), 0.95 * s.inertia.sqrt())),
             (ParamId::ExtraModeDampingCoupling, (-limit, limit)),
         ];
-        out.push(trial(
+        out.push(mode_trial(
             Effect::UnmodeledMode {
                 frequency_hz: f,
                 damping_ratio: damping,
@@ -227,9 +242,10 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
                 stiffness_coupling: None,
                 damping_coupling: Some(0.3 * (d_hub * 2.0 * damping * omega).sqrt()),
             },
-            format!("unmodeled_mode(damping, {f:.2} Hz)"),
+            "unmodeled_mode(damping, ".into(),
             bounds,
             vec![nonzero(ParamId::ExtraModeDampingCoupling)],
+            &seed,
         ));
     }
     out.retain(|t| !model.effects().iter().any(|e| e.kind() == t.kind && e.sensor() == t.sensor));

@@ -3,7 +3,7 @@
 //! where the residual or the data hold one. Starting values and bounds come from the model's
 //! own stiffness, damping and response (its peak displacement and velocity per coordinate).
 
-use super::{LIGHTLY_DAMPED, Strength, Trial, mode_seeds};
+use super::{LIGHTLY_DAMPED, Located, Strength, Trial, mode_seeds};
 use crate::localise::Localisation;
 use faer::Mat;
 use plant::EffectKind;
@@ -172,7 +172,8 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
     // a seed's range stops 15 % short of the modelled modes around it.
     let modelled: Vec<f64> =
         model.modes().map(|m| m.iter().map(|r| r.frequency_hz).collect()).unwrap_or_default();
-    for (f, zeta, (low, high)) in mode_seeds(&modelled, 0.15, LIGHTLY_DAMPED, localisation) {
+    for seed in mode_seeds(&modelled, 0.15, LIGHTLY_DAMPED, localisation) {
+        let (f, zeta, (low, high)) = (seed.frequency, seed.damping, seed.range);
         let amplitudes: Vec<(f64, f64)> = localisation.outputs.iter().map(|o| (o.rms, 0.0)).collect();
         let mut t = trial(
             Effect::UnmodeledMode { frequency_hz: f, damping_ratio: zeta.clamp(0.005, 0.15), amplitudes },
@@ -187,7 +188,11 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
             )],
             &outputs,
         );
-        t.located = Some("mode_frequency".into());
+        t.located = Some(Located {
+            name: "mode_frequency".into(),
+            limits: seed.limits,
+            prefix: "unmodeled_mode(".into(),
+        });
         out.push(t);
     }
     // Effects the model has are not tried again (a second mode is not offered either).
