@@ -2,7 +2,7 @@
 //! baseline and the shortlist on each fold, with and without the model's own parameters free.
 
 use super::EffectParameter;
-use super::catalog::Trial;
+use super::catalog::{Located, Trial};
 use super::evidence::{block_length, folds};
 use crate::WorkflowError;
 use crate::stats::ljung_box;
@@ -145,10 +145,15 @@ pub fn fit_trial(
         });
     }
     let mut outcome = best.expect("a trial has a start")?;
-    // A resonance pressing on a bound of its search range is followed there (`Located`).
-    if let Some(located) = &trial.located {
+    // A resonance pressing on a bound of its search range is followed there (`Located`), if
+    // it may be damped beyond what ERA seeds.
+    let damping_bound = |name: &str| trial.bounds.iter().find(|(n, _)| n == name).map(|(_, b)| b.1);
+    if let Some(located) =
+        trial.located.as_ref().filter(|l| damping_bound(&l.damping).is_some_and(Located::unseen))
+    {
+        let unmoved = outcome.clone();
         let mut range = trial.bounds.iter().find(|(n, _)| *n == located.name).map(|(_, b)| *b);
-        for _ in 0..super::catalog::Located::MAX_MOVES {
+        for _ in 0..Located::MAX_MOVES {
             let report = &outcome.report;
             let Some(i) = report.names.iter().position(|n| *n == located.name) else { break };
             let (Some(side), Some(now)) = (report.on_bound[i], range) else { break };
@@ -161,6 +166,16 @@ pub fn fit_trial(
                 break;
             }
             outcome = moved;
+        }
+        // Where the range moved, only a mode ERA could not have seeded is kept there.
+        let report = &outcome.report;
+        if report
+            .names
+            .iter()
+            .position(|n| *n == located.damping)
+            .is_some_and(|j| !Located::unseen(report.parameters[j]))
+        {
+            outcome = unmoved;
         }
     }
     Ok(Fitted { outcome })

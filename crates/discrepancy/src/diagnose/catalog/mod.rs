@@ -95,10 +95,13 @@ impl Trial {
 
 /// A resonance's frequency parameter and where the data may locate it.
 ///
-/// The search range is a factor 2 about the seed; a refit that ends on one of its bounds moves
-/// it a factor 2 further that way and refits from there (at most [`Located::MAX_MOVES`] times,
-/// never past `limits`): a heavily damped mode is seldom seeded where it is (ERA on a short,
-/// noisy record sees a band, not a peak), and a refit pressing on a bound is following it.
+/// The search range is a factor 2 about the seed. For a mode that may be heavily damped (its
+/// damping ratio allowed beyond [`LIGHTLY_DAMPED`]), a refit that ends on one of the range's
+/// bounds moves it a factor 2 further that way and refits from there (at most
+/// [`Located::MAX_MOVES`] times, never past `limits`): a heavily damped mode is seldom seeded
+/// where it is (ERA on a short, noisy record sees a band, not a peak), and a refit pressing on a
+/// bound is following it. The moved refit is kept only if the mode it locates is heavily damped
+/// ([`Located::unseen`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Located {
     /// The frequency parameter's name.
@@ -109,11 +112,21 @@ pub struct Located {
     /// The trial's label up to the frequency (`unmodeled_mode(damping, `): the label names the
     /// frequency where the refit located the mode, not its seed.
     pub prefix: String,
+    /// The mode's damping-ratio parameter.
+    pub damping: String,
 }
 
 impl Located {
     /// How many times a search range may move.
     pub const MAX_MOVES: usize = 2;
+
+    /// Whether a mode damped `zeta` is one ERA does not seed (damped more than
+    /// [`LIGHTLY_DAMPED`]): the search moves only for such a mode. A lightly damped mode rings,
+    /// and ERA on the data or the residual would have seeded it where it is; one found only by
+    /// moving away from every seed is a stand-in fitted to what remains.
+    pub fn unseen(zeta: f64) -> bool {
+        zeta > LIGHTLY_DAMPED
+    }
 
     /// The range after a refit ended at `f` on `side` of its range (None if it cannot move).
     pub fn moved(&self, range: (f64, f64), f: f64, side: mem::Side) -> Option<(f64, f64)> {
@@ -262,8 +275,14 @@ mod tests {
     use mem::Side;
 
     #[test]
+    fn only_a_heavily_damped_mode_is_followed() {
+        assert!(Located::unseen(0.3) && !Located::unseen(0.2) && !Located::unseen(0.057));
+    }
+
+    #[test]
     fn a_range_moves_a_factor_two_past_the_bound_reached_and_stops_at_its_limits() {
-        let located = Located { name: "f".into(), limits: (0.3, 10.0), prefix: "m(".into() };
+        let located =
+            Located { name: "f".into(), limits: (0.3, 10.0), prefix: "m(".into(), damping: "z".into() };
         // Seeded at 1.6 Hz: (0.8, 3.2); the refit ends on the lower bound.
         assert_eq!(located.moved((0.8, 3.2), 0.8, Side::Lower), Some((0.4, 1.6)));
         // Next time the limit cuts the range; once on the limit it cannot move.

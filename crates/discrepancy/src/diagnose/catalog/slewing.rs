@@ -66,7 +66,12 @@ fn mode_trial(
     seed: &Seed,
 ) -> Trial {
     let mut t = trial(effect, format!("{prefix}{:.2} Hz)", seed.frequency), bounds, strength);
-    t.located = Some(Located { name: ParamId::ExtraModeFrequency.name(), limits: seed.limits, prefix });
+    t.located = Some(Located {
+        name: ParamId::ExtraModeFrequency.name(),
+        limits: seed.limits,
+        prefix,
+        damping: ParamId::ExtraModeDamping.name(),
+    });
     t
 }
 

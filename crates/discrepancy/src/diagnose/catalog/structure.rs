@@ -192,6 +192,7 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
             name: "mode_frequency".into(),
             limits: seed.limits,
             prefix: "unmodeled_mode(".into(),
+            damping: "mode_damping".into(),
         });
         out.push(t);
     }
