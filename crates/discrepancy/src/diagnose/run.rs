@@ -147,12 +147,12 @@ pub fn fit_trial(
     let mut outcome = best.expect("a trial has a start")?;
     // A resonance pressing on a bound of its search range is followed there (`Located`), if
     // it may be damped beyond what ERA seeds.
-    let damping_bound = |name: &str| trial.bounds.iter().find(|(n, _)| n == name).map(|(_, b)| b.1);
+    let bound = |name: &str| trial.bounds.iter().find(|(n, _)| n == name).map(|(_, b)| *b);
     if let Some(located) =
-        trial.located.as_ref().filter(|l| damping_bound(&l.damping).is_some_and(Located::unseen))
+        trial.located.as_ref().filter(|l| bound(&l.damping).is_some_and(|b| Located::unseen(b.1)))
     {
-        let unmoved = outcome.clone();
-        let mut range = trial.bounds.iter().find(|(n, _)| *n == located.name).map(|(_, b)| *b);
+        let mut unmoved = None;
+        let mut range = bound(&located.name);
         for _ in 0..Located::MAX_MOVES {
             let report = &outcome.report;
             let Some(i) = report.names.iter().position(|n| *n == located.name) else { break };
@@ -161,21 +161,22 @@ pub fn fit_trial(
             let mut model = outcome.fitted.clone();
             model.set_bounds(&located.name, next)?;
             let Ok(moved) = refit(&model, data, &free, sample_weights, iterations) else { break };
-            range = Some(next);
             if last_error(&moved) > last_error(&outcome) {
                 break;
             }
-            outcome = moved;
+            range = Some(next);
+            let before = std::mem::replace(&mut outcome, moved);
+            unmoved.get_or_insert(before);
         }
         // Where the range moved, only a mode ERA could not have seeded is kept there.
         let report = &outcome.report;
-        if report
+        let seen = report
             .names
             .iter()
             .position(|n| *n == located.damping)
-            .is_some_and(|j| !Located::unseen(report.parameters[j]))
-        {
-            outcome = unmoved;
+            .is_some_and(|j| !Located::unseen(report.parameters[j]));
+        if let (true, Some(first)) = (seen, unmoved) {
+            outcome = first;
         }
     }
     Ok(Fitted { outcome })

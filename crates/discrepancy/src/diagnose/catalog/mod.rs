@@ -75,7 +75,7 @@ impl Trial {
             .as_ref()
             .and_then(|l| {
                 let i = report.names.iter().position(|n| *n == l.name)?;
-                Some(format!("{}{:.2} Hz)", l.prefix, report.parameters[i]))
+                Some(l.label(report.parameters[i]))
             })
             .unwrap_or_else(|| self.label.clone())
     }
@@ -131,13 +131,23 @@ impl Located {
     /// The range after a refit ended at `f` on `side` of its range (None if it cannot move).
     pub fn moved(&self, range: (f64, f64), f: f64, side: mem::Side) -> Option<(f64, f64)> {
         let (low, high) = self.limits;
-        let next = match side {
-            mem::Side::Lower if range.0 > low * (1.0 + 1e-9) => ((0.5 * f).max(low), (2.0 * f).min(high)),
-            mem::Side::Upper if range.1 < high * (1.0 - 1e-9) => ((0.5 * f).max(low), (2.0 * f).min(high)),
-            _ => return None,
+        let room = match side {
+            mem::Side::Lower => range.0 > low * (1.0 + 1e-9),
+            mem::Side::Upper => range.1 < high * (1.0 - 1e-9),
         };
-        (next.0 < f && f < next.1).then_some(next)
+        let next = about(f, self.limits);
+        (room && next.0 < f && f < next.1).then_some(next)
     }
+
+    /// The trial's label for a mode at `f` Hz.
+    pub fn label(&self, f: f64) -> String {
+        format!("{}{f:.2} Hz)", self.prefix)
+    }
+}
+
+/// A search range: a factor 2 either side of `f`, within `limits`.
+fn about(f: f64, limits: (f64, f64)) -> (f64, f64) {
+    ((0.5 * f).max(limits.0), (2.0 * f).min(limits.1))
 }
 
 /// Where an unmodeled mode is looked for first.
@@ -258,7 +268,7 @@ fn mode_seeds(avoid: &[f64], margin: f64, max_damping: f64, localisation: &Local
                 limits.1 = limits.1.min(s / (1.0 + margin));
             }
         }
-        let range = ((0.5 * f).max(limits.0), (2.0 * f).min(limits.1));
+        let range = about(f, limits);
         if range.0 < f && f < range.1 {
             seeds.push(Seed { frequency: f, damping: m.damping_ratio, range, limits });
         }

@@ -65,13 +65,14 @@ fn mode_trial(
     strength: Vec<Strength>,
     seed: &Seed,
 ) -> Trial {
-    let mut t = trial(effect, format!("{prefix}{:.2} Hz)", seed.frequency), bounds, strength);
-    t.located = Some(Located {
+    let located = Located {
         name: ParamId::ExtraModeFrequency.name(),
         limits: seed.limits,
         prefix,
         damping: ParamId::ExtraModeDamping.name(),
-    });
+    };
+    let mut t = trial(effect, located.label(seed.frequency), bounds, strength);
+    t.located = Some(located);
     t
 }
 

@@ -175,9 +175,15 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
     for seed in mode_seeds(&modelled, 0.15, LIGHTLY_DAMPED, localisation) {
         let (f, zeta, (low, high)) = (seed.frequency, seed.damping, seed.range);
         let amplitudes: Vec<(f64, f64)> = localisation.outputs.iter().map(|o| (o.rms, 0.0)).collect();
+        let located = Located {
+            name: "mode_frequency".into(),
+            limits: seed.limits,
+            prefix: "unmodeled_mode(".into(),
+            damping: "mode_damping".into(),
+        };
         let mut t = trial(
             Effect::UnmodeledMode { frequency_hz: f, damping_ratio: zeta.clamp(0.005, 0.15), amplitudes },
-            format!("unmodeled_mode({f:.2} Hz)"),
+            located.label(f),
             vec![("mode_frequency".into(), (low, high)), ("mode_damping".into(), (0.0, 0.2))],
             vec![Strength::Largest(
                 outputs
@@ -188,12 +194,7 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
             )],
             &outputs,
         );
-        t.located = Some(Located {
-            name: "mode_frequency".into(),
-            limits: seed.limits,
-            prefix: "unmodeled_mode(".into(),
-            damping: "mode_damping".into(),
-        });
+        t.located = Some(located);
         out.push(t);
     }
     // Effects the model has are not tried again (a second mode is not offered either).
