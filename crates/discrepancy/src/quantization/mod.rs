@@ -17,7 +17,12 @@
 //!   Regressing r on the phase of x̂ does not suffer the noise's blur of the readings'
 //!   own phase, so it sees a step that [`blurred`] cannot (about 2.5× the z at Δ = 3.6σ). The
 //!   period is found on the first half of the moving samples and the sinusoid confirmed on the
-//!   second, where its amplitude must also be a rounding's, Δ/π ([`sawtooth`]).
+//!   second, where its amplitude must also be a rounding's, Δ/π ([`sawtooth`]). Its samples run
+//!   while the fitted response is more than ten residual σ from rest, not only while the
+//!   readings swing beyond a tenth of their range: a large signal crosses many steps long after
+//!   that. Where the model misses by more than Δ/2π (it lacks another effect, say), the phase of
+//!   x̂ is scrambled; a second reading corrects x̂ by a local quadratic smooth of the residual,
+//!   which follows the smooth misfit but not the sawtooth that changes with every step crossed.
 //!
 //! Either way the step matters only if it is comparable to the noise or larger (a record
 //! printed with six decimals lies on a 10⁻⁶ lattice too); [`Lattice::matters`] says so.
@@ -89,15 +94,20 @@ pub fn moving(values: &[f64]) -> Vec<f64> {
 
 /// The end (exclusive) of the samples [`moving`] keeps.
 fn moving_end(values: &[f64]) -> usize {
+    let Some(rest) = rest_value(values) else { return 0 };
+    let reach = values.iter().fold(0.0f64, |a, v| a.max((v - rest).abs()));
+    values.iter().rposition(|v| (v - rest).abs() > 0.1 * reach).map_or(0, |k| k + 1)
+}
+
+/// The rest value of a record: the median of its last tenth (`None` if it is empty).
+fn rest_value(values: &[f64]) -> Option<f64> {
     let n = values.len();
     if n == 0 {
-        return 0;
+        return None;
     }
     let mut tail: Vec<f64> = values[n - (n / 10).max(1)..].to_vec();
     tail.sort_by(f64::total_cmp);
-    let rest = tail[tail.len() / 2];
-    let reach = values.iter().fold(0.0f64, |a, v| a.max((v - rest).abs()));
-    values.iter().rposition(|v| (v - rest).abs() > 0.1 * reach).map_or(0, |k| k + 1)
+    Some(tail[tail.len() / 2])
 }
 
 /// The maximiser of a unimodal `f` on [a, b] by `iterations` steps of golden-section search
