@@ -120,6 +120,10 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
         .or_from(Effect::CoulombFriction {
             torque: 0.1 * s.servo_stiffness * s.theta0,
             smoothing_velocity: 5e-4 * s.rate,
+        })
+        .or_from(Effect::CoulombFriction {
+            torque: 0.004 * s.servo_stiffness * s.theta0,
+            smoothing_velocity: 5e-4 * s.rate,
         }),
         trial(
             // Drag equal to 20 % of the viscous torque at the peak rate.
