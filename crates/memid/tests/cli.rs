@@ -328,6 +328,13 @@ fn diagnose_rejects_bad_arguments() {
         &memid(&["diagnose", "--model", p(&model), "--data", p(&data), "--free", "cv", "-o", p(&model)]),
         "refusing to overwrite",
     );
+    // Counts of zero are refused at parsing, naming the flag.
+    assert_bad(
+        &memid(&["diagnose", "--model", p(&model), "--data", p(&data), "--free", "cv", "--decimate", "0"]),
+        "--decimate",
+    );
+    assert_bad(&memid(&["era", "--data", p(&data), "--order", "0"]), "--order");
+    assert_bad(&memid(&["era", "--data", p(&data), "--decimate", "0"]), "--decimate");
 }
 
 /// The README's pipeline: simulate at 128 Hz with 0.001 noise, fit C_v and K_p with

@@ -23,7 +23,7 @@ pub struct Args {
     #[arg(long)]
     free: String,
     /// Keep every R-th sample after an anti-aliasing filter.
-    #[arg(long, value_name = "R")]
+    #[arg(long, value_name = "R", value_parser = super::at_least_one)]
     decimate: Option<usize>,
     /// Only try these catalog effects, comma-separated.
     #[arg(long)]

@@ -13,10 +13,10 @@ pub struct Args {
     #[arg(long)]
     data: PathBuf,
     /// Realization order (twice the number of modes sought, plus room for noise modes).
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = 8, value_parser = super::at_least_one)]
     order: usize,
     /// Keep every R-th sample after an anti-aliasing filter.
-    #[arg(long, value_name = "R")]
+    #[arg(long, value_name = "R", value_parser = super::at_least_one)]
     decimate: Option<usize>,
     /// Print JSON instead of a table.
     #[arg(long)]

@@ -32,7 +32,7 @@ pub struct Args {
     #[arg(long)]
     outputs: Option<String>,
     /// Keep every R-th sample after an anti-aliasing filter (the paper: 128 Hz → 12.8 Hz is 10).
-    #[arg(long, value_name = "R")]
+    #[arg(long, value_name = "R", value_parser = super::at_least_one)]
     decimate: Option<usize>,
     /// The paper's plain Gauss–Newton step, without the Levenberg–Marquardt safeguard.
     #[arg(long)]
