@@ -3,7 +3,7 @@
 //! [`diagnose()`] goes where the paper stopped: when the linear model's optimum does not
 //! reproduce the data, it
 //! 1. fits the baseline model;
-//! 2. **localises** the residual ([`localise`]): which output and which part of the record carry
+//! 2. **localises** the residual ([`localise()`](localise::localise)): which output and which part of the record carry
 //!    it, whether it is white (Ljung–Box), whether damping depends on amplitude, whether it holds
 //!    a mode the model lacks (ERA on the residual, which seeds the unmodeled-mode candidate);
 //! 3. refits with each **candidate effect** of the catalog ([`diagnose::catalog`]; starting

@@ -10,7 +10,7 @@
 //! * [`ode`]: a slewing model with nonlinear effects (saturation, dry friction, drag), whose
 //!   outputs and sensitivities come from the forward sensitivity equations integrated by diffsol,
 //!   with exact Jacobian products in num-dual;
-//! * [`simulate`]: a model's response, by whichever path it needs;
+//! * [`simulate()`](fn@simulate): a model's response, by whichever path it needs;
 //! * [`structure`]: a structure model file's free parameters as a `mem::StateSpaceModel`, its
 //!   expressions evaluated over num-dual for exact ∂A/∂P, ∂B/∂P, ∂C/∂P, ∂D/∂P, ∂x(0)/∂P;
 //! * [`exponential`]: a model with nonlinear forces — the slewing rig with effects, or a
@@ -18,7 +18,7 @@
 //!   integrator whose kernel both share, with the exact derivatives of its recursion;
 //! * [`sensors`]: a sensor's offset, scale and drift on any model's outputs;
 //! * [`model`]: both kinds behind one [`Model`], the kind chosen from the file in one place;
-//! * [`fit`]: fitting a model to a measured record (aligning its columns, weighting, the
+//! * [`fit()`](fn@fit): fitting a model to a measured record (aligning its columns, weighting, the
 //!   quantized readings of its sensors), with the curves around the fit.
 
 pub mod exponential;

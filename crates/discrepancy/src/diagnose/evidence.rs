@@ -110,7 +110,7 @@ pub fn structure(residual: &Mat<f64>, noise: &NoiseModel) -> f64 {
     structure_per_output(residual, noise).iter().sum()
 }
 
-/// [`structure`] output by output.
+/// [`structure()`](fn@structure) output by output.
 pub fn structure_per_output(residual: &Mat<f64>, noise: &NoiseModel) -> Vec<f64> {
     use faer::linalg::solvers::SolveLstsq;
     let (k, p) = (residual.nrows(), residual.ncols());

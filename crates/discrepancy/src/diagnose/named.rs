@@ -2,8 +2,9 @@
 //! named effect determines ([`polish`]), and the model parameters a named sensor scale cannot be
 //! told from ([`scale_equivalents_of`]).
 
+use super::answer::last_error;
 use super::catalog::Trial;
-use super::{Candidate, Verdict, last_error, run};
+use super::{Candidate, Verdict, run};
 use mem::Measurement;
 use models::Model;
 use plant::EffectKind;

@@ -1,7 +1,8 @@
 //! Quantization as a measurement model: a candidate per sensor whose raw readings hold a
 //! lattice (`crate::quantization`), refitted with the quantizer when the lattice matters.
 
-use super::{Candidate, EffectParameter, Evidence, Verdict, last_error, run};
+use super::answer::last_error;
+use super::{Candidate, EffectParameter, Evidence, Verdict, run};
 use crate::WorkflowError;
 use crate::quantization;
 use mem::Measurement;

@@ -1,7 +1,7 @@
 //! The refits behind the evidence: a candidate's full refit, and the held-out refits of the
 //! baseline and the shortlist on each fold, with and without the model's own parameters free.
 
-use super::EffectParameter;
+use super::answer::{EffectParameter, last_error};
 use super::catalog::{Located, Trial};
 use super::evidence::{block_length, folds};
 use crate::WorkflowError;
@@ -180,10 +180,6 @@ pub fn fit_trial(
         }
     }
     Ok(Fitted { outcome })
-}
-
-fn last_error(outcome: &FitOutcome) -> f64 {
-    *outcome.report.error_history.last().expect("a history has its start")
 }
 
 /// The effect's parameters as fitted.

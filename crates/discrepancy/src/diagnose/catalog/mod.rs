@@ -1,6 +1,6 @@
 //! The candidates: each catalog effect where it can act on this model, with starting values
 //! taken from the model and the data (never from a study's truth) and plausible bounds — for
-//! the slewing rig ([`slewing`]) and for any structure ([`structure`]).
+//! the slewing rig (`slewing.rs`) and for any structure (`structure.rs`).
 
 mod slewing;
 mod structure;
@@ -96,7 +96,7 @@ impl Trial {
 /// A resonance's frequency parameter and where the data may locate it.
 ///
 /// The search range is a factor 2 about the seed. For a mode that may be heavily damped (its
-/// damping ratio allowed beyond [`LIGHTLY_DAMPED`]), a refit that ends on one of the range's
+/// damping ratio allowed beyond `LIGHTLY_DAMPED`), a refit that ends on one of the range's
 /// bounds moves it a factor 2 further that way and refits from there (at most
 /// [`Located::MAX_MOVES`] times, never past `limits`): a heavily damped mode is seldom seeded
 /// where it is (ERA on a short, noisy record sees a band, not a peak), and a refit pressing on a
@@ -121,7 +121,7 @@ impl Located {
     pub const MAX_MOVES: usize = 2;
 
     /// Whether a mode damped `zeta` is one ERA does not seed (damped more than
-    /// [`LIGHTLY_DAMPED`]): the search moves only for such a mode. A lightly damped mode rings,
+    /// `LIGHTLY_DAMPED`): the search moves only for such a mode. A lightly damped mode rings,
     /// and ERA on the data or the residual would have seeded it where it is; one found only by
     /// moving away from every seed is a stand-in fitted to what remains.
     pub fn unseen(zeta: f64) -> bool {

@@ -1,0 +1,159 @@
+//! The answer of a diagnosis: each candidate with its evidence and [`Verdict`], and the
+//! [`Diagnosis`] that holds them, the named one first.
+
+use super::ResidualStructure;
+use super::evidence::NoiseModel;
+use crate::localise::Localisation;
+use crate::quantization::Lattice;
+use models::{FitOutcome, Model};
+use plant::{EffectKind, Sensor};
+use serde::Serialize;
+
+/// A parameter of an effect, as fitted.
+#[derive(Clone, Debug, Serialize)]
+pub struct EffectParameter {
+    /// Parameter name (`current_limit`, `offset_theta`, …).
+    pub name: String,
+    /// Fitted value.
+    pub value: f64,
+    /// Standard error, where the data determine it.
+    pub std_error: Option<f64>,
+}
+
+/// The evidence for one candidate, every figure a difference of the same log-likelihood
+/// ([`super::evidence`]) to the reference's (the baseline with the model's own parameters free).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Evidence {
+    /// In-sample log-likelihood gain (nats).
+    pub in_sample: f64,
+    /// ΔBIC = −2·in_sample + k ln m (negative is better).
+    pub delta_bic: f64,
+    /// Held-out log-likelihood gain over both folds (nats), if scored.
+    pub held_out: Option<f64>,
+    /// The strength's distance from "no effect" in standard errors (smallest over its strength
+    /// parameters).
+    pub strength_z: f64,
+    /// 1 − ‖Y_error‖/baseline ‖Y_error‖.
+    pub reduction: f64,
+    /// Smallest Ljung–Box p-value of the refit's residuals over the outputs.
+    pub whiteness_p: f64,
+    /// The share of the reference residual's predictable structure ([`super::evidence::structure`])
+    /// that the refit removes: 1 − structure(refit)/structure(reference).
+    pub structure_explained: f64,
+    /// For a sensor effect, the same share on the one output it acts on (1 where the
+    /// reference holds less than 10 nats of structure there). Reported, not a test: see
+    /// docs/diagnose.md (step 7) for why it does not separate stand-ins from true effects.
+    pub sensor_structure_explained: Option<f64>,
+}
+
+/// Why a candidate was or was not named.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "verdict", content = "detail")]
+pub enum Verdict {
+    /// It earns its name: the answer.
+    Named,
+    /// It passed every test, but another candidate has more held-out evidence.
+    Outscored,
+    /// Its in-sample gain does not pay for its parameters (ΔBIC ≥ −bic_threshold).
+    Weak,
+    /// Its strength is not resolved from "no effect".
+    Unresolved,
+    /// It was not among the best candidates scored out of sample.
+    NotShortlisted,
+    /// Fitted on half the record, it does not predict the other half better by the threshold.
+    NotPredictive,
+    /// It predicts better, but leaves the reference residual's predictable structure nearly as
+    /// it was (it removes less than [`super::MIN_STRUCTURE_EXPLAINED`] of it): it shaves a misfit
+    /// rather than explaining it.
+    Superficial,
+    /// A lattice that is not there, or a step far below the noise.
+    NoLattice,
+    /// The refit failed (the message says why).
+    Failed(String),
+}
+
+/// One candidate effect and its evidence.
+#[derive(Clone, Debug, Serialize)]
+pub struct Candidate {
+    /// Its kind.
+    #[serde(rename = "effect")]
+    pub kind: EffectKind,
+    /// The sensor, for a sensor effect.
+    pub sensor: Option<Sensor>,
+    /// Catalog name with its target, e.g. `output_offset(theta)`.
+    pub label: String,
+    /// The effect of the model it takes the place of, for a swap of siblings.
+    pub replaces: Option<EffectKind>,
+    /// The effect's parameters.
+    pub parameters: Vec<EffectParameter>,
+    /// Its evidence.
+    pub evidence: Evidence,
+    /// The lattice, for sensor quantization.
+    pub lattice: Option<Lattice>,
+    /// The outcome.
+    #[serde(flatten)]
+    pub verdict: Verdict,
+    /// The refitted model.
+    #[serde(skip)]
+    pub model: Option<Model>,
+    /// The refit.
+    #[serde(skip)]
+    pub outcome: Option<FitOutcome>,
+}
+
+/// The answer of [`super::diagnose`].
+#[derive(Clone, Debug)]
+pub struct Diagnosis {
+    /// The baseline fit (the parameters the user freed).
+    pub baseline: FitOutcome,
+    /// The reference: the baseline with the model's own parameters free too, what every
+    /// candidate is scored against.
+    pub reference: FitOutcome,
+    /// Where it disagrees with the data.
+    pub localisation: Localisation,
+    /// What the baseline's residual holds beyond noise, and where.
+    pub residual: ResidualStructure,
+    /// The model's own parameters freed to tell a mismatch from a missing effect.
+    pub mismatch_parameters: Vec<String>,
+    /// In-sample gain of freeing them (nats): the reference's log-likelihood less the baseline's.
+    pub mismatch_gain: f64,
+    /// The measurement model every candidate was scored under.
+    pub noise: NoiseModel,
+    /// All candidates, named first, then by evidence.
+    pub candidates: Vec<Candidate>,
+    /// Index of the named candidate.
+    pub chosen: Option<usize>,
+    /// The held-out gain an effect needed (nats).
+    pub threshold: f64,
+    /// For a named sensor scale: the model's parameters (not refitted) that scale that output
+    /// alone, so that the data cannot tell the named calibration error from an error in them.
+    pub scale_equivalents: Vec<String>,
+}
+
+impl Diagnosis {
+    /// The named effect's catalog name, or `"none"`.
+    pub fn effect(&self) -> &str {
+        self.chosen.map_or("none", |i| self.candidates[i].kind.name())
+    }
+    /// The named candidate.
+    pub fn named(&self) -> Option<&Candidate> {
+        self.chosen.map(|i| &self.candidates[i])
+    }
+    /// The augmented model (the reference's fitted model if none is named).
+    pub fn augmented(&self) -> &Model {
+        self.named().and_then(|c| c.model.as_ref()).unwrap_or(&self.reference.fitted)
+    }
+    /// The augmented model's error (the reference's if none is named).
+    pub fn augmented_error(&self) -> f64 {
+        self.named().and_then(|c| c.outcome.as_ref()).map_or_else(|| last_error(&self.reference), last_error)
+    }
+    /// The baseline's error.
+    pub fn baseline_error(&self) -> f64 {
+        last_error(&self.baseline)
+    }
+}
+
+/// The last error of a fit's history (its ‖Y_error‖ at the estimate).
+pub(super) fn last_error(outcome: &FitOutcome) -> f64 {
+    *outcome.report.error_history.last().expect("a history has its start")
+}
