@@ -201,7 +201,8 @@ pub fn effect_parameters(outcome: &FitOutcome, trial: &Trial) -> Vec<EffectParam
 
 /// The smallest distance of the effect's strength parameters from "no effect", in standard
 /// errors (0 where a standard error is not determined, and for an unmodeled mode whose
-/// frequency ends on a bound of its range).
+/// frequency or damping ratio ends on a bound of its range). For a mode, the smaller of that and
+/// its damping ratio's distance from zero: a mode is named only where the data locate its pole.
 ///
 /// The standard error is conditional on the effect's shape parameters (a drag exponent, a
 /// friction's smoothing, an extra mode's frequency and damping): they are not identified when
@@ -217,6 +218,17 @@ pub fn strength_z(outcome: &FitOutcome, trial: &Trial) -> f64 {
     if trial.located.as_ref().and_then(|l| index(&l.name)).is_some_and(|i| report.on_bound[i].is_some()) {
         return 0.0;
     }
+    // Locating a resonance is locating a pole: its decay as well as its frequency. A damping
+    // ratio on its bound or not resolved from zero (at the strength's own z) is an oscillation
+    // of unknown decay, which any slow disturbance fitted over a few cycles can be.
+    let decay_z = match trial.located.as_ref().and_then(|l| index(&l.damping)) {
+        Some(i) if report.on_bound[i].is_some() => return 0.0,
+        Some(i) => match report.std_error(i) {
+            Some(se) if se > 0.0 => report.parameters[i].abs() / se,
+            _ => return 0.0,
+        },
+        None => f64::INFINITY,
+    };
     let strength: Vec<&str> = trial.strength.iter().flat_map(|s| s.names()).collect();
     let shape: Vec<usize> = trial
         .freed
@@ -240,6 +252,7 @@ pub fn strength_z(outcome: &FitOutcome, trial: &Trial) -> f64 {
                 .fold(f64::NEG_INFINITY, f64::max)
         })
         .fold(f64::INFINITY, f64::min)
+        .min(decay_z)
         .min(1e6)
 }
 
