@@ -11,11 +11,8 @@ fn fixture(name: &str) -> PathBuf {
     root().join("fixtures").join(name)
 }
 
-fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("memid-cli-{}-{test}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(test: &str) -> test_problems::Scratch {
+    test_problems::Scratch::new("memid-cli", test)
 }
 
 fn memid(args: &[&str]) -> Output {

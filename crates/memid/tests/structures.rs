@@ -80,8 +80,7 @@ fn modal_gives_the_independent_frequencies_and_shapes() {
 
 #[test]
 fn a_wrong_expression_is_one_line_with_line_and_column() {
-    let dir = std::env::temp_dir().join(format!("memid-structures-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = test_problems::Scratch::new("memid-structures", "expression");
     let text = std::fs::read_to_string(fixture("shear_building.ron")).unwrap();
     let bad = text.replacen("\"k2 + k3\"", "\"k2 + k4\"", 1);
     assert_ne!(bad, text, "the fixture holds the expression");
@@ -102,8 +101,7 @@ fn a_wrong_expression_is_one_line_with_line_and_column() {
 
 #[test]
 fn simulate_drives_a_forced_structure_and_its_output_fits_back() {
-    let dir = std::env::temp_dir().join(format!("memid-structures-sim-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = test_problems::Scratch::new("memid-structures", "simulate");
     let out = dir.join("sim.csv");
     let run = memid(&[
         "simulate",
@@ -142,8 +140,7 @@ fn simulate_drives_a_forced_structure_and_its_output_fits_back() {
 
 #[test]
 fn diagnose_names_a_sensor_bias_and_the_augmented_file_fits() {
-    let dir = std::env::temp_dir().join(format!("memid-structure-diagnose-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = test_problems::Scratch::new("memid-structures", "diagnose");
     let augmented = dir.join("augmented.ron");
     let data = fixture("independent/effects/offset_q3.csv");
     let run = memid(&[
@@ -187,5 +184,4 @@ fn diagnose_names_a_sensor_bias_and_the_augmented_file_fits() {
     assert!((value - 4e-4).abs() < 3.0 * se + 1e-5, "offset {value} ± {se}");
     let k1 = row("k1")["final"].as_f64().unwrap();
     assert!((k1 / 2.62e6 - 1.0).abs() < 0.02, "k1 {k1}");
-    std::fs::remove_dir_all(&dir).ok();
 }

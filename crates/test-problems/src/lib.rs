@@ -455,3 +455,39 @@ pub fn add_noise(data: &mem::Measurement, fraction: f64, seed: u64) -> mem::Meas
 pub fn parameters(names: &[&str], p0: &[f64]) -> Vec<mem::Parameter> {
     names.iter().zip(p0).map(|(n, v)| mem::Parameter::new(*n, *v)).collect()
 }
+
+/// A scratch directory for one test, `<temp>/<prefix>-<pid>-<test>`, emptied when made and
+/// removed when dropped — unless the test is failing (panicking), so that its files stay to be
+/// looked at.
+pub struct Scratch(std::path::PathBuf);
+
+impl Scratch {
+    /// Makes (or empties) the directory.
+    pub fn new(prefix: &str, test: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!("{prefix}-{}-{test}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("the temporary directory is writable");
+        Self(dir)
+    }
+}
+
+impl std::ops::Deref for Scratch {
+    type Target = std::path::Path;
+    fn deref(&self) -> &std::path::Path {
+        &self.0
+    }
+}
+
+impl AsRef<std::path::Path> for Scratch {
+    fn as_ref(&self) -> &std::path::Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
