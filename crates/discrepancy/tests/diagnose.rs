@@ -209,3 +209,22 @@ fn a_strain_scale_names_the_thickness_it_cannot_be_told_from() {
     assert_eq!(d.scale_equivalents, ["thickness"], "{:?}", d.answer());
     assert!(d.answer().iter().any(|s| s.contains("`thickness`")), "{:?}", d.answer());
 }
+
+/// A beam 3 % longer than the file says, nothing else, from the study's independent truth plant
+/// (`fixtures/independent/slewing_length.py`, 1.2257 m against 1.19 m). With one strain gauge a
+/// length error and a gauge calibration error act alike; a parameter mismatch is not a missing
+/// effect, so the answer is `none` or, if it names the gauge's scale, it must say that the
+/// length explains the data as well, and where the length would be.
+#[test]
+fn a_longer_beam_is_no_gauge_scale_without_the_length_beside_it() {
+    let d = decimated_fixture("slewing_length");
+    let Some(named) = d.named() else { return };
+    assert_eq!(named.label, "sensor_scale(strain)", "{:?}", d.answer());
+    let length = d.scale_rivals.iter().find(|r| r.name == "length").expect("the length is a rival");
+    let se = length.std_error.expect("determined");
+    assert!((length.value - 1.2257).abs() < 3.0 * se, "length {} ± {se}", length.value);
+    assert!(length.in_sample >= named.evidence.in_sample - d.threshold, "{length:?}");
+    assert!(d.answer().iter().any(|s| s.contains("a mismatch of `length`")), "{:?}", d.answer());
+    let json = serde_json::to_value(d.report()).unwrap();
+    assert_eq!(json["rival_mismatches"][0]["name"], "length", "{json}");
+}

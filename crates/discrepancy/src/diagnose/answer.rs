@@ -20,6 +20,23 @@ pub struct EffectParameter {
     pub std_error: Option<f64>,
 }
 
+/// A model parameter that, refitted alone in place of a named sensor scale, explains the data
+/// as well (its in-sample gain within the held-out threshold of the scale's, or more): a
+/// mismatch of it is an answer these data do not rule out.
+#[derive(Clone, Debug, Serialize)]
+pub struct ScaleRival {
+    /// Parameter name (`length`, …).
+    pub name: String,
+    /// Its value in the reference (the model file's, it was not refitted there).
+    pub reference_value: f64,
+    /// Its value refitted in place of the scale.
+    pub value: f64,
+    /// Standard error of the refitted value.
+    pub std_error: Option<f64>,
+    /// In-sample gain of that refit over the reference (nats), to set against the scale's.
+    pub in_sample: f64,
+}
+
 /// The evidence for one candidate, every figure a difference of the same log-likelihood
 /// ([`super::evidence`]) to the reference's (the baseline with the model's own parameters free).
 #[derive(Clone, Debug, Default, Serialize)]
@@ -128,6 +145,9 @@ pub struct Diagnosis {
     /// For a named sensor scale: the model's parameters (not refitted) that scale that output
     /// alone, so that the data cannot tell the named calibration error from an error in them.
     pub scale_equivalents: Vec<String>,
+    /// For a named sensor scale: the model's parameters that, refitted alone instead, explain
+    /// the data as well ([`ScaleRival`]).
+    pub scale_rivals: Vec<ScaleRival>,
 }
 
 impl Diagnosis {

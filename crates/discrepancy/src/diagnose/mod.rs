@@ -29,7 +29,7 @@ mod report;
 mod residual;
 mod run;
 
-pub use answer::{Candidate, Diagnosis, EffectParameter, Evidence, Verdict};
+pub use answer::{Candidate, Diagnosis, EffectParameter, Evidence, ScaleRival, Verdict};
 pub use report::DiagnosisReport;
 
 pub use residual::{Band, ResidualStructure};
@@ -327,6 +327,7 @@ pub fn diagnose_observed(
     }
     let chosen = choose(&candidates, options.threshold);
     let mut scale_equivalents = Vec::new();
+    let mut scale_rivals = Vec::new();
     if let Some(i) = chosen {
         candidates[i].verdict = Verdict::Named;
         if let Some(trial) = trials.get(i) {
@@ -336,6 +337,14 @@ pub fn diagnose_observed(
             {
                 let refitted: Vec<String> = reference_free.iter().chain(&trial.freed).cloned().collect();
                 scale_equivalents = scale_equivalents_of(fitted, &data, output, &refitted);
+                let rivals = named::Rivals {
+                    reference: &reference.outcome.fitted,
+                    free: &reference_free,
+                    exclude: &scale_equivalents,
+                    to_match: candidates[i].evidence.in_sample - options.threshold,
+                };
+                scale_rivals =
+                    rivals.find(&data, |o| evidence::gain(&likelihoods(o), &reference_likelihoods));
             }
         }
     }
@@ -362,6 +371,7 @@ pub fn diagnose_observed(
         chosen,
         threshold: options.threshold,
         scale_equivalents,
+        scale_rivals,
     })
 }
 

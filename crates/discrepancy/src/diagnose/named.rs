@@ -1,13 +1,15 @@
 //! The named effect: which candidate is named ([`choose`]), the refit that frees what only the
-//! named effect determines ([`polish`]), and the model parameters a named sensor scale cannot be
-//! told from ([`scale_equivalents_of`]).
+//! named effect determines ([`polish`]), the model parameters a named sensor scale cannot be
+//! told from ([`scale_equivalents_of`]), and those that explain the data as well ([`Rivals`]).
 
 use super::answer::last_error;
 use super::catalog::Trial;
-use super::{Candidate, Verdict, run};
+use super::{Candidate, ScaleRival, Verdict, run};
 use mem::Measurement;
+use models::FitOutcome;
 use models::Model;
 use plant::EffectKind;
+use rayon::prelude::*;
 
 /// The model's parameters (other than the refitted ones) whose only effect is to scale output
 /// `output`: each sensitivity column confined to that output (the others' share below 10⁻⁹)
@@ -55,6 +57,56 @@ pub(super) fn scale_equivalents_of(
         })
         .map(|(_, name)| name)
         .collect()
+}
+
+/// The search for [`ScaleRival`]s of a named sensor scale: each of the model's own parameters
+/// the reference did not refit ([`run::scale_rival_parameters`]) is refitted alone beside the
+/// reference's, from the reference, in its range; those whose gain reaches `to_match` (the
+/// scale's in-sample gain less the held-out threshold) and that the data determine inside their
+/// range explain the record as well as the scale. A sensor's calibration and the structure's
+/// geometry can act alike on one output (the slewing rig's beam length on its one strain
+/// gauge): the answer then says which mismatch the data do not rule out and what it would be.
+pub(super) struct Rivals<'a> {
+    /// The reference's fitted model.
+    pub reference: &'a Model,
+    /// The reference's free parameters.
+    pub free: &'a [String],
+    /// Parameters not tried (the scale's exact equivalents, reported as such).
+    pub exclude: &'a [String],
+    /// The gain a rival must reach (nats).
+    pub to_match: f64,
+}
+
+impl Rivals<'_> {
+    pub(super) fn find(
+        &self,
+        data: &Measurement,
+        gain: impl Fn(&FitOutcome) -> f64 + Sync,
+    ) -> Vec<ScaleRival> {
+        let tried: Vec<(String, (f64, f64))> = run::scale_rival_parameters(self.reference, self.free)
+            .into_iter()
+            .filter(|(n, _)| !self.exclude.contains(n))
+            .collect();
+        tried
+            .par_iter()
+            .filter_map(|(name, bounds)| {
+                let reference_value = self.reference.value(name).ok()?;
+                let mut from = self.reference.clone();
+                from.set_bounds(name, *bounds).ok()?;
+                let free: Vec<String> = self.free.iter().chain([name]).cloned().collect();
+                let outcome = run::refit(&from, data, &free, None, 60).ok()?;
+                let in_sample = gain(&outcome);
+                let i = outcome.report.names.iter().position(|n| n == name)?;
+                (in_sample >= self.to_match && run::determined(&outcome, name)).then(|| ScaleRival {
+                    name: name.clone(),
+                    reference_value,
+                    value: outcome.report.parameters[i],
+                    std_error: outcome.report.std_error(i),
+                    in_sample,
+                })
+            })
+            .collect()
+    }
 }
 
 /// A named effect whose trial held a shape parameter that only the named effect can determine

@@ -35,6 +35,9 @@ pub struct DiagnosisReport<'a> {
     /// For a named sensor scale: the model's parameters that scale that output alone, which the
     /// data cannot tell from the named calibration error (empty otherwise).
     pub equivalent_parameters: &'a [String],
+    /// For a named sensor scale: the model's parameters that, refitted alone instead, explain
+    /// the data as well — mismatches these data do not rule out (empty otherwise).
+    pub rival_mismatches: &'a [super::ScaleRival],
 }
 
 impl Diagnosis {
@@ -86,6 +89,20 @@ impl Diagnosis {
                         if self.scale_equivalents.len() == 1 { "s" } else { "" },
                         if self.scale_equivalents.len() == 1 { "it" } else { "them" },
                         if self.scale_equivalents.len() == 1 { "it" } else { "them" },
+                    ));
+                }
+                for r in &self.scale_rivals {
+                    out.push(format!(
+                        "a mismatch of `{}` explains these data as well: refitted alone in place of the scale it \
+                         moves from {:.5} to {:.5}{} and gains {:.1} nats (the scale {:.1}); one record of these \
+                         outputs does not tell them apart, so check `{}` before correcting the sensor",
+                        r.name,
+                        r.reference_value,
+                        r.value,
+                        r.std_error.map_or(String::new(), |se| format!(" ± {se:.5}")),
+                        r.in_sample,
+                        c.evidence.in_sample,
+                        r.name
                     ));
                 }
                 // A rival within the threshold is not told apart by these data.
@@ -152,6 +169,7 @@ impl Diagnosis {
             candidates: &self.candidates,
             localisation: &self.localisation,
             equivalent_parameters: &self.scale_equivalents,
+            rival_mismatches: &self.scale_rivals,
         }
     }
 }

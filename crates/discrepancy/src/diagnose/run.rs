@@ -368,6 +368,36 @@ pub fn determined(outcome: &FitOutcome, name: &str) -> bool {
     })
 }
 
+/// The model's own parameters, not refitted, that a named scale of one output is tried
+/// against as a mismatch, with the ranges they are refitted in: the mismatch parameters the
+/// reference left fixed, and the file's geometry (for the slewing rig the beam's length and the
+/// hub's radius, ±10 %; for a structure its fixed parameters, ±30 %). The exact equivalents
+/// (`scale_equivalents_of`) are left out: they are reported as such.
+pub fn scale_rival_parameters(model: &Model, refitted: &[String]) -> Vec<(String, (f64, f64))> {
+    let named =
+        |ids: Vec<(ParamId, (f64, f64))>| ids.into_iter().map(|(id, b)| (id.name(), b)).collect::<Vec<_>>();
+    let all = match model {
+        Model::Slewing(m) => {
+            let around = |id: ParamId| {
+                let v = m.get(id);
+                (id, (0.9 * v, 1.1 * v))
+            };
+            let geometry =
+                [ParamId::Length, ParamId::HubRadius].into_iter().filter(|&id| m.get(id) > 0.0).map(around);
+            named(mismatch_ids(m).into_iter().chain(secondary_mismatch_ids(m)).chain(geometry).collect())
+        }
+        Model::Structure(m) => {
+            let mut bounds = structure_fixed(m);
+            bounds.extend(m.free().into_iter().filter_map(|n| {
+                let v = m.value(&n).ok().filter(|v| *v != 0.0 && v.is_finite())?;
+                Some((n, if v > 0.0 { (0.7 * v, 1.3 * v) } else { (1.3 * v, 0.7 * v) }))
+            }));
+            bounds
+        }
+    };
+    all.into_iter().filter(|(n, _)| !refitted.contains(n)).collect()
+}
+
 /// `model` with the mismatch parameters' ranges.
 pub fn with_mismatch_bounds(mut model: Model) -> Model {
     if let Some(m) = model.as_slewing_mut() {
