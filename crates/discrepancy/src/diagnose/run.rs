@@ -202,7 +202,7 @@ pub fn effect_parameters(outcome: &FitOutcome, trial: &Trial) -> Vec<EffectParam
 /// The smallest distance of the effect's strength parameters from "no effect", in standard
 /// errors (0 where a standard error is not determined, and for an unmodeled mode whose
 /// frequency or damping ratio ends on a bound of its range). For a mode, the smaller of that and
-/// its damping ratio's distance from zero: a mode is named only where the data locate its pole.
+/// [`pole_z`]: a mode is named only where the data locate its pole.
 ///
 /// The standard error is conditional on the effect's shape parameters (a drag exponent, a
 /// friction's smoothing, an extra mode's frequency and damping): they are not identified when
@@ -213,22 +213,20 @@ pub fn strength_z(outcome: &FitOutcome, trial: &Trial) -> f64 {
     let report = &outcome.report;
     let cov = &report.statistics.covariance;
     let index = |name: &str| report.names.iter().position(|n| n == name);
-    // A mode is a resonance the data must locate: one whose frequency ends on a bound of its
-    // search range was not found there, whatever its coupling does.
-    if trial.located.as_ref().and_then(|l| index(&l.name)).is_some_and(|i| report.on_bound[i].is_some()) {
+    let estimate = |name: &String| {
+        index(name).map(|i| Estimate {
+            value: report.parameters[i],
+            std_error: report.std_error(i),
+            on_bound: report.on_bound[i].is_some(),
+        })
+    };
+    let pole = match trial.located.as_ref().map(|l| (estimate(&l.name), estimate(&l.damping))) {
+        Some((Some(frequency), Some(damping))) => pole_z(frequency, damping),
+        _ => f64::INFINITY,
+    };
+    if pole == 0.0 {
         return 0.0;
     }
-    // Locating a resonance is locating a pole: its decay as well as its frequency. A damping
-    // ratio on its bound or not resolved from zero (at the strength's own z) is an oscillation
-    // of unknown decay, which any slow disturbance fitted over a few cycles can be.
-    let decay_z = match trial.located.as_ref().and_then(|l| index(&l.damping)) {
-        Some(i) if report.on_bound[i].is_some() => return 0.0,
-        Some(i) => match report.std_error(i) {
-            Some(se) if se > 0.0 => report.parameters[i].abs() / se,
-            _ => return 0.0,
-        },
-        None => f64::INFINITY,
-    };
     let strength: Vec<&str> = trial.strength.iter().flat_map(|s| s.names()).collect();
     let shape: Vec<usize> = trial
         .freed
@@ -252,8 +250,36 @@ pub fn strength_z(outcome: &FitOutcome, trial: &Trial) -> f64 {
                 .fold(f64::NEG_INFINITY, f64::max)
         })
         .fold(f64::INFINITY, f64::min)
-        .min(decay_z)
+        .min(pole)
         .min(1e6)
+}
+
+/// A parameter as a refit left it.
+#[derive(Clone, Copy, Debug)]
+pub struct Estimate {
+    /// The estimate.
+    pub value: f64,
+    /// Its standard error, where the data determine it.
+    pub std_error: Option<f64>,
+    /// Whether it ended on a bound of its range.
+    pub on_bound: bool,
+}
+
+/// How surely a refit located an unmodeled mode's pole, in standard errors (0 where it did
+/// not): the smaller of its damping ratio's distance from zero and its frequency's distance
+/// from a factor 2 off (f/2), either 0 on a bound of its range or where its standard error is
+/// not determined. A mode is a resonance the data must locate — a frequency on a bound of its
+/// search range was not found there, whatever the coupling does — and locating a resonance is
+/// locating a pole: a damping ratio not resolved from zero is an oscillation of unknown decay,
+/// which any slow disturbance fitted over a few cycles can be, and a frequency not pinned within
+/// the factor 2 its search spans is a band, not a pole (a smooth misfit fitted with a heavily
+/// damped "mode" anywhere in it).
+pub fn pole_z(frequency: Estimate, damping: Estimate) -> f64 {
+    let z = |e: Estimate, share: f64| match e.std_error {
+        Some(se) if se > 0.0 && !e.on_bound => share * e.value.abs() / se,
+        _ => 0.0,
+    };
+    z(damping, 1.0).min(z(frequency, 0.5))
 }
 
 /// √(Σ_ii − Σ_iH Σ_HH⁻¹ Σ_Hi): parameter i's standard error with the parameters `held` fixed
@@ -445,4 +471,35 @@ pub fn held_out(
         }
     };
     Ok(outcome.first().residual())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Estimate, pole_z};
+
+    fn e(value: f64, std_error: f64) -> Estimate {
+        Estimate { value, std_error: Some(std_error), on_bound: false }
+    }
+
+    /// Estimates measured on the held-out draws (docs/diagnose.md): a true damping-coupled
+    /// mode found weak, and the stand-in a strong pendulum torque was fitted with.
+    #[test]
+    fn a_pole_is_located_by_its_decay_and_by_its_frequency_within_a_factor_two() {
+        // Seed 4711, a weak 0.86 Hz mode damped 34 %: f/se 8.3, ζ/se 6.3.
+        let true_mode = pole_z(e(0.86, 0.86 / 8.3), e(0.342, 0.342 / 6.3));
+        assert!((true_mode - 8.3 / 2.0).abs() < 1e-12, "{true_mode}");
+        assert!(true_mode >= 3.0);
+        // Seed 6101, gravity: 4.87 ± 1.10 Hz, ζ 0.497 ± 0.117 — a band, not a pole.
+        let stand_in = pole_z(e(4.8713, 1.0975), e(0.4967, 0.1174));
+        assert!((stand_in - 0.5 * 4.8713 / 1.0975).abs() < 1e-12 && stand_in < 3.0, "{stand_in}");
+        // Seed 3307, cogging: a frequency pinned (0.19 Hz, f/se > 100) but ζ/se 1.3.
+        let ripple = pole_z(e(0.19, 0.0019), e(0.07, 0.07 / 1.3));
+        assert!((ripple - 1.3).abs() < 1e-12, "{ripple}");
+        // On a bound of its range, or with no standard error: not located.
+        let bound = Estimate { on_bound: true, ..e(0.3, 0.001) };
+        assert_eq!(pole_z(bound, e(0.2, 0.01)), 0.0);
+        assert_eq!(pole_z(e(0.3, 0.001), bound), 0.0);
+        assert_eq!(pole_z(e(0.3, 0.001), Estimate { std_error: None, ..e(0.2, 0.01) }), 0.0);
+        assert_eq!(pole_z(e(0.3, 0.001), e(0.2, 0.0)), 0.0);
+    }
 }
