@@ -120,7 +120,7 @@ fn a_heavily_damped_mode_is_followed_to_its_frequency() {
 }
 
 /// A cogging torque (−3 mN·m · sin 36θ at the hub, physics outside the catalog) from the study's
-/// independent truth plant (`fixtures/independent/slewing_cogging.py`), released from 0.75 rad.
+/// independent truth plant (`fixtures/independent/slewing_hub_torques.py`), released from 0.75 rad.
 /// Over the decay it is a slow ripple of a few cycles; a mode fitted to it finds a frequency
 /// (0.18 Hz) but not a decay rate, and a mode is named only where its pole is located
 /// (before that rule, `unmodeled_mode(inertia, 0.18 Hz)` was named here).

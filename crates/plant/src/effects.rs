@@ -11,7 +11,7 @@
 //! | `VoltageSaturation` | `voltage_limit` \[V\] | amplifier output e_a = sat(G K_p(θ_ref − θ)); the back-EMF still acts |
 //! | `CoulombFriction` | `coulomb_torque` \[N·m\] | τ = −F_c tanh(θ̇/v_s), v_s fixed smoothing velocity |
 //! | `QuadraticDrag` | `drag_hub` \[N·m·(s/rad)ᵖ\], optional `drag_exponent` p | τ = −c_d \|θ̇\|ᵖ sign θ̇ (p = 2 unless given: air drag, the paper's ref. 10) |
-//! | `CubicStiffness` | `cubic_stiffness` \[N·m/rad³\] | τ = −k₃θ³ on the hub (hardening for k₃ > 0, softening for k₃ < 0) |
+//! | `CubicStiffness` | `cubic_stiffness` \[N·m/rad³\], optional `hub_stiffness` k₁ \[N·m/rad\] | τ = −k₁θ − k₃θ³ on the hub (hardening for k₃ > 0, softening for k₃ < 0; k₁ = 0 unless given) |
 //! | `TimeDelay` | `delay` \[s\] | feedback sees θ(t − τ), Padé(1,1): θ_d = −θ + w, ẇ = (2/τ)(2θ − w) |
 //! | `UnmodeledMode` | `extra_mode_frequency` \[Hz\], `extra_mode_damping`, `extra_mode_coupling` \[√kg·m\], optional `extra_mode_stiffness_coupling` \[N·m/√kg\], optional `extra_mode_damping_coupling` \[N·m·s/√kg\] | a mass-normalised mode η: η̈ + 2ζωη̇ + ω²η coupled to the hub through M (and K, and D) |
 //! | `Backlash` | `backlash` \[rad\], `gear_frequency` \[Hz\] | the motor is a body of its own (I_m), joined to the hub by a gear of stiffness k_g = I_m(2πf_g)² and damping 2ζ_g I_m 2πf_g with a dead band of total width b: τ_g = k_g dz_b(θ_m − θ) + c_g(θ̇_m − θ̇); the servo, C_v and the back-EMF act on the motor, the potentiometer reads the hub, the tachometer the motor (or the hub) |
@@ -149,10 +149,16 @@ pub enum Effect<D = f64> {
         #[serde(default)]
         exponent: Option<D>,
     },
-    /// A cubic restoring torque at the hub.
+    /// A nonlinear restoring torque at the hub: a spring there, hardening or softening.
     CubicStiffness {
-        /// k₃ \[N·m/rad³\]: τ = −k₃θ³.
+        /// k₃ \[N·m/rad³\]: τ = −k₁θ − k₃θ³.
         coefficient: D,
+        /// k₁ \[N·m/rad\], the spring's linear part (0 when absent); a parameter
+        /// (`hub_stiffness`) when given. Acting on the hub alone, it is not the servo's
+        /// stiffness: the servo's torque reaches the flexible modes through the hub's geometry
+        /// (Γ), a hub spring's does not.
+        #[serde(default)]
+        linear: Option<D>,
     },
     /// A dead band in the gear between the motor and the hub (backlash).
     ///
@@ -294,7 +300,9 @@ impl<D> Effect<D> {
             Effect::QuadraticDrag { hub, exponent } => {
                 Effect::QuadraticDrag { hub: f(hub), exponent: exponent.as_ref().map(&f) }
             }
-            Effect::CubicStiffness { coefficient } => Effect::CubicStiffness { coefficient: f(coefficient) },
+            Effect::CubicStiffness { coefficient, linear } => {
+                Effect::CubicStiffness { coefficient: f(coefficient), linear: linear.as_ref().map(&f) }
+            }
             Effect::Backlash { dead_band, gear_frequency_hz, gear_damping_ratio, tachometer_on_motor } => {
                 Effect::Backlash {
                     dead_band: f(dead_band),

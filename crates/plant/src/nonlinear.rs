@@ -35,7 +35,7 @@ pub struct Dynamics<D: Scalar> {
     voltage: Option<(D, bool)>,
     coulomb: Option<(D, f64)>,
     drag: Option<(D, Option<D>)>,
-    cubic: Option<D>,
+    cubic: Option<(D, Option<D>)>,
     /// Backlash: k_g and half the dead band.
     backlash: Option<(D, D)>,
     amplifier_voltage_gain: D,
@@ -69,7 +69,7 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
                 coulomb = Some((*torque, *smoothing_velocity))
             }
             Effect::QuadraticDrag { hub, exponent } => drag = Some((*hub, *exponent)),
-            Effect::CubicStiffness { coefficient } => cubic = Some(*coefficient),
+            Effect::CubicStiffness { coefficient, linear } => cubic = Some((*coefficient, *linear)),
             Effect::Backlash { dead_band, .. } => {
                 let (kg, _) = crate::assemble::gear(c).expect("a backlash effect has a gear");
                 backlash = Some((kg, *dead_band * D::from(0.5)));
@@ -154,7 +154,10 @@ impl<D: Scalar> Dynamics<D> {
             out.push(c);
             out.extend(p);
         }
-        out.extend(self.cubic);
+        if let Some((k3, k1)) = self.cubic {
+            out.push(k3);
+            out.extend(k1);
+        }
         if let Some((kg, half)) = self.backlash {
             out.extend([kg, half]);
         }
@@ -206,8 +209,11 @@ impl<D: Scalar> Dynamics<D> {
                 None => c_d * abs(rate) * rate,
             };
         }
-        if let Some(k3) = self.cubic {
+        if let Some((k3, k1)) = self.cubic {
             hub -= k3 * theta * theta * theta;
+            if let Some(k1) = k1 {
+                hub -= k1 * theta;
+            }
         }
         (servo, hub)
     }

@@ -91,6 +91,8 @@ pub enum ParamId {
     DragExponent,
     /// `cubic_stiffness` of `CubicStiffness`.
     CubicStiffness,
+    /// `hub_stiffness` of `CubicStiffness` (when given): its linear part.
+    HubStiffness,
     /// `extra_mode_stiffness_coupling` of `UnmodeledMode` (when given).
     ExtraModeStiffnessCoupling,
     /// `extra_mode_damping_coupling` of `UnmodeledMode` (when given).
@@ -134,13 +136,14 @@ const CORE: [(&str, ParamId, &str); 13] = [
     ("amplifier_gain", ParamId::AmplifierGain, "motor.amplifier_gain"),
 ];
 
-const EFFECT_PARAMS: [(&str, ParamId, &str); 14] = [
+const EFFECT_PARAMS: [(&str, ParamId, &str); 15] = [
     ("backlash", ParamId::Backlash, "dead_band"),
     ("gear_frequency", ParamId::GearFrequency, "gear_frequency_hz"),
     ("current_limit", ParamId::CurrentLimit, "current_limit"),
     ("voltage_limit", ParamId::VoltageLimit, "voltage_limit"),
     ("drag_exponent", ParamId::DragExponent, "exponent"),
     ("cubic_stiffness", ParamId::CubicStiffness, "coefficient"),
+    ("hub_stiffness", ParamId::HubStiffness, "linear"),
     ("extra_mode_stiffness_coupling", ParamId::ExtraModeStiffnessCoupling, "stiffness_coupling"),
     ("extra_mode_damping_coupling", ParamId::ExtraModeDampingCoupling, "damping_coupling"),
     ("coulomb_torque", ParamId::CoulombTorque, "torque"),
@@ -207,6 +210,7 @@ impl ParamId {
             | ParamId::Scale(_)
             | ParamId::Drift(_)
             | ParamId::CubicStiffness
+            | ParamId::HubStiffness
             | ParamId::ExtraModeCoupling
             | ParamId::ExtraModeStiffnessCoupling
             | ParamId::ExtraModeDampingCoupling => SignRule::Any,
@@ -257,7 +261,13 @@ impl ParamId {
                 }
                 ids
             }
-            Effect::CubicStiffness { .. } => vec![ParamId::CubicStiffness],
+            Effect::CubicStiffness { linear, .. } => {
+                let mut ids = vec![ParamId::CubicStiffness];
+                if linear.is_some() {
+                    ids.push(ParamId::HubStiffness);
+                }
+                ids
+            }
             Effect::Backlash { .. } => vec![ParamId::Backlash, ParamId::GearFrequency],
             Effect::SensorQuantization { .. } => vec![],
             Effect::OutputOffset { sensor, .. } => vec![ParamId::Offset(*sensor)],
@@ -322,7 +332,8 @@ macro_rules! effect_field {
             (Effect::CoulombFriction { torque, .. }, ParamId::CoulombTorque) => Some(torque),
             (Effect::QuadraticDrag { hub, .. }, ParamId::DragHub) => Some(hub),
             (Effect::QuadraticDrag { exponent: Some(p), .. }, ParamId::DragExponent) => Some(p),
-            (Effect::CubicStiffness { coefficient }, ParamId::CubicStiffness) => Some(coefficient),
+            (Effect::CubicStiffness { coefficient, .. }, ParamId::CubicStiffness) => Some(coefficient),
+            (Effect::CubicStiffness { linear: Some(k), .. }, ParamId::HubStiffness) => Some(k),
             (Effect::TimeDelay { delay }, ParamId::Delay) => Some(delay),
             (Effect::Backlash { dead_band, .. }, ParamId::Backlash) => Some(dead_band),
             (Effect::Backlash { gear_frequency_hz, .. }, ParamId::GearFrequency) => Some(gear_frequency_hz),

@@ -84,6 +84,19 @@ fn new_nonlinear_effects_reduce_to_known_forms() {
     let fb = rhs(&SlewingModel::paper());
     let hub = cubic.layout().n_dof;
     assert!(fc[hub] < fb[hub], "a hardening spring pulls θ = {} back", x[0]);
+    // Its linear part k₁θ acts where the cubic does: at θ, k₁ = k₃θ² gives the same torque,
+    // so the same right-hand side, as the cubic alone (and twice the change with both).
+    let k1 = 2.0 * x[0] * x[0];
+    let linear = with_effects(&format!("CubicStiffness(coefficient: 0.0, linear: Some({k1:e}))"));
+    let both = with_effects(&format!("CubicStiffness(coefficient: 2.0, linear: Some({k1:e}))"));
+    let (f1, f2) = (rhs(&linear), rhs(&both));
+    for i in 0..x.len() {
+        assert!((f1[i] - fc[i]).abs() < 1e-12 * (1.0 + fc[i].abs()), "row {i}: {} vs {}", f1[i], fc[i]);
+        let twice = fb[i] + 2.0 * (fc[i] - fb[i]);
+        assert!((f2[i] - twice).abs() < 1e-12 * (1.0 + twice.abs()), "row {i}");
+    }
+    assert!(linear.parameter("hub_stiffness").is_ok(), "a parameter when given");
+    assert!(cubic.parameter("hub_stiffness").is_err(), "not one when absent");
 }
 
 #[test]

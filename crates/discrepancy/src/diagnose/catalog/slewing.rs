@@ -142,7 +142,7 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
         trial(
             // Hardening and softening starts: a cubic changes the frequency with amplitude, and
             // the position gain can take up part of it from either side of zero.
-            Effect::CubicStiffness { coefficient: 0.05 * s.servo_stiffness / s.theta0.powi(2) },
+            Effect::CubicStiffness { coefficient: 0.05 * s.servo_stiffness / s.theta0.powi(2), linear: None },
             "cubic_stiffness".into(),
             vec![(
                 ParamId::CubicStiffness,
@@ -150,7 +150,10 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
             )],
             vec![nonzero(ParamId::CubicStiffness)],
         )
-        .or_from(Effect::CubicStiffness { coefficient: -0.05 * s.servo_stiffness / s.theta0.powi(2) }),
+        .or_from(Effect::CubicStiffness {
+            coefficient: -0.05 * s.servo_stiffness / s.theta0.powi(2),
+            linear: None,
+        }),
         trial(
             Effect::TimeDelay { delay: 0.02 },
             "time_delay".into(),
