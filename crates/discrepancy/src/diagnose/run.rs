@@ -379,8 +379,7 @@ fn structure_fixed(model: &structure::StructureModel) -> Vec<(String, (f64, f64)
         .filter(|n| !free.contains(n) && !effects.contains(n))
         .filter_map(|n| {
             let v = model.value(&n).ok()?;
-            (v != 0.0 && v.is_finite())
-                .then_some((n, if v > 0.0 { (0.7 * v, 1.3 * v) } else { (1.3 * v, 0.7 * v) }))
+            (v != 0.0 && v.is_finite()).then_some((n, around(v, 0.3)))
         })
         .collect()
 }
@@ -404,24 +403,28 @@ pub fn scale_rival_parameters(model: &Model, refitted: &[String]) -> Vec<(String
         |ids: Vec<(ParamId, (f64, f64))>| ids.into_iter().map(|(id, b)| (id.name(), b)).collect::<Vec<_>>();
     let all = match model {
         Model::Slewing(m) => {
-            let around = |id: ParamId| {
-                let v = m.get(id);
-                (id, (0.9 * v, 1.1 * v))
-            };
-            let geometry =
-                [ParamId::Length, ParamId::HubRadius].into_iter().filter(|&id| m.get(id) > 0.0).map(around);
+            let geometry = [ParamId::Length, ParamId::HubRadius]
+                .into_iter()
+                .filter(|&id| m.get(id) > 0.0)
+                .map(|id| (id, around(m.get(id), 0.1)));
             named(mismatch_ids(m).into_iter().chain(secondary_mismatch_ids(m)).chain(geometry).collect())
         }
         Model::Structure(m) => {
             let mut bounds = structure_fixed(m);
             bounds.extend(m.free().into_iter().filter_map(|n| {
                 let v = m.value(&n).ok().filter(|v| *v != 0.0 && v.is_finite())?;
-                Some((n, if v > 0.0 { (0.7 * v, 1.3 * v) } else { (1.3 * v, 0.7 * v) }))
+                Some((n, around(v, 0.3)))
             }));
             bounds
         }
     };
     all.into_iter().filter(|(n, _)| !refitted.contains(n)).collect()
+}
+
+/// The range within `share` of `v` on either side, ordered for a negative `v` too.
+fn around(v: f64, share: f64) -> (f64, f64) {
+    let (a, b) = ((1.0 - share) * v, (1.0 + share) * v);
+    (a.min(b), a.max(b))
 }
 
 /// `model` with the mismatch parameters' ranges.
