@@ -58,8 +58,9 @@ pub struct Evidence {
     /// that the refit removes: 1 − structure(refit)/structure(reference).
     pub structure_explained: f64,
     /// For a sensor effect, the same share on the one output it acts on (1 where the
-    /// reference holds less than 10 nats of structure there). Reported, not a test: see
-    /// docs/diagnose.md (step 7) for why it does not separate stand-ins from true effects.
+    /// reference holds less than 10 nats of structure there); below
+    /// [`super::MIN_SENSOR_STRUCTURE_EXPLAINED`] the effect is not named
+    /// ([`Verdict::LeavesItsOutput`]).
     pub sensor_structure_explained: Option<f64>,
 }
 
@@ -83,6 +84,10 @@ pub enum Verdict {
     /// it was (it removes less than [`super::MIN_STRUCTURE_EXPLAINED`] of it): it shaves a misfit
     /// rather than explaining it.
     Superficial,
+    /// A sensor effect that predicts better but leaves most of the structure on the one output
+    /// it acts on (it removes less than [`super::MIN_SENSOR_STRUCTURE_EXPLAINED`] of it): what
+    /// is missing acts on that output through the dynamics, and the sensor's error only shaves it.
+    LeavesItsOutput,
     /// A lattice that is not there, or a step far below the noise.
     NoLattice,
     /// The refit failed (the message says why).

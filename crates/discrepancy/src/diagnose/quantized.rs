@@ -10,9 +10,16 @@ use models::Model;
 use plant::EffectKind;
 use run::Fitted;
 
-/// The z a blurred lattice's phase, or a sawtooth's fundamental, must hold by on the second half
-/// of the moving samples.
+/// The z a blurred lattice's phase must hold by on the second half of the moving samples
+/// (about Student's t₁₉ at 10⁻⁷).
 const LATTICE_Z: f64 = 8.0;
+
+/// The false-alarm probability of one sawtooth reading (one-sided): its z is Student's t₁₉
+/// without a quantizer ([`quantization::BATCHES`] batch means), and a record is read up to four
+/// times a sensor. The bar this sets, 5.63, was checked on the sensors of the study's draws
+/// (docs/diagnose.md): the unquantized ones' largest z was 3.4, where t₁₉'s tail expects a few
+/// of some 2,000 readings.
+const SAWTOOTH_FALSE_ALARM: f64 = 1e-5;
 
 /// One candidate per sensor not yet quantized whose raw readings hold a lattice; named
 /// (`Outscored` until chosen) when the lattice matters, refitted with the quantizer on `data`
@@ -27,6 +34,15 @@ pub(super) fn quantization_candidates(
     let baseline = &reference.outcome;
     let response = baseline.fitted.response(&[])?;
     let fitted = mem::sampled_response(response.as_ref(), raw, &[])?.outputs;
+    // The model's own poles, to correct its response before a sawtooth is read about it (an
+    // empty list, and no correction but a constant, if the modes cannot be had).
+    let poles: Vec<(f64, f64)> =
+        baseline.fitted.modes().map(|rows| rows.iter().map(|r| r.eigenvalue).collect()).unwrap_or_default();
+    let times = raw.times();
+    let thresholds = quantization::Thresholds {
+        blurred: LATTICE_Z,
+        sawtooth: quantization::batch_threshold(SAWTOOTH_FALSE_ALARM),
+    };
     let mut out = Vec::new();
     let quantized = start.quantization();
     for (o, name) in start.output_names().iter().enumerate() {
@@ -35,7 +51,10 @@ pub(super) fn quantization_candidates(
         }
         let values: Vec<f64> = (0..raw.n_samples()).map(|k| raw.values()[(k, o)]).collect();
         let predicted: Vec<f64> = (0..raw.n_samples()).map(|k| fitted[(k, o)]).collect();
-        let Some(lattice) = quantization::detect(&values, &predicted, LATTICE_Z) else { continue };
+        let corrected = quantization::modal_corrected(&values, &predicted, &times, &poles);
+        let Some(lattice) = quantization::detect_about(&values, &[&predicted, &corrected], thresholds) else {
+            continue;
+        };
         let (sensor, effect) = match start {
             Model::Slewing(m) => {
                 let sensor = m.sensors()[o];

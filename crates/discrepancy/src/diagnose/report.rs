@@ -142,6 +142,11 @@ impl Diagnosis {
                                  structure: a stand-in, not the missing physics",
                                 100.0 * best.evidence.structure_explained.max(0.0)
                             ),
+                            Verdict::LeavesItsOutput => format!(
+                                "predictive on held-out blocks but it leaves {:.0} % of the structure on the output \
+                                 it acts on: what is missing there acts through the dynamics",
+                                100.0 * (1.0 - best.evidence.sensor_structure_explained.unwrap_or(0.0)).clamp(0.0, 1.0)
+                            ),
                             other => format!("{other:?}"),
                         }
                     ));

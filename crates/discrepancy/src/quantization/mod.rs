@@ -23,13 +23,18 @@
 //!   that. Where the model misses by more than Δ/2π (it lacks another effect, say), the phase of
 //!   x̂ is scrambled; a second reading corrects x̂ by a local quadratic smooth of the residual,
 //!   which follows the smooth misfit but not the sawtooth that changes with every step crossed.
+//!   Before either reading, x̂ can be corrected by the fitted model's own modal decays
+//!   ([`modal_corrected`]): a decimated fit never sees the modes above its Nyquist frequency,
+//!   and their misfit in the raw record is too fast for the local smooth.
 //!
 //! Either way the step matters only if it is comparable to the noise or larger (a record
 //! printed with six decimals lies on a 10⁻⁶ lattice too); [`Lattice::matters`] says so.
 
+mod correction;
 mod lattice;
 mod sawtooth;
 
+pub use correction::modal_corrected;
 pub use lattice::{blurred, exact};
 pub use sawtooth::sawtooth;
 
@@ -125,10 +130,31 @@ fn golden_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, iterations: usize)
     0.5 * (a + b)
 }
 
-/// The mean of `projections` and its z over the batch-means standard error (20 batches, so
-/// that coloured noise does not pass for evidence).
+/// The batch means [`batch_z`] takes: without a lattice its z is Student's t with
+/// `BATCHES − 1` degrees of freedom.
+pub const BATCHES: usize = 20;
+
+/// The z a statistic of [`batch_z`] needs for a false-alarm probability `alpha` (one-sided),
+/// from Student's t with `BATCHES − 1` degrees of freedom (8, the blurred test's bar, if the
+/// distribution cannot be had).
+pub fn batch_threshold(alpha: f64) -> f64 {
+    use statrs::distribution::{ContinuousCDF, StudentsT};
+    StudentsT::new(0.0, 1.0, (BATCHES - 1) as f64).map_or(8.0, |t| t.inverse_cdf(1.0 - alpha))
+}
+
+/// The z each reading of a lattice needs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Thresholds {
+    /// The blurred lattice's confirmation.
+    pub blurred: f64,
+    /// The sawtooth's confirmation, for each response it is read about.
+    pub sawtooth: f64,
+}
+
+/// The mean of `projections` and its z over the batch-means standard error ([`BATCHES`]
+/// batches, so that coloured noise does not pass for evidence).
 fn batch_z(projections: &[f64]) -> (f64, f64) {
-    let batches = 20;
+    let batches = BATCHES;
     let size = (projections.len() / batches).max(1);
     let means: Vec<f64> = (0..batches)
         .map(|b| {
@@ -145,6 +171,15 @@ fn batch_z(projections: &[f64]) -> (f64, f64) {
 /// the sawtooth of the residual about `fitted` (the fitted model's output at the same samples).
 /// `threshold` is the z the blurred and sawtooth statistics need.
 pub fn detect(values: &[f64], fitted: &[f64], threshold: f64) -> Option<Lattice> {
+    detect_about(values, &[fitted], Thresholds { blurred: threshold, sawtooth: threshold })
+}
+
+/// [`detect`] with several responses the sawtooth may be read about, tried in turn (the fitted
+/// response, then the same corrected by [`modal_corrected`]): each correction fits the noise a
+/// little too, so a response that finds the sawtooth is not traded for a later one. The noise
+/// scale that bounds the smallest step comes from the first.
+pub fn detect_about(values: &[f64], responses: &[&[f64]], thresholds: Thresholds) -> Option<Lattice> {
+    let fitted: &[f64] = responses.first()?;
     let n = values.len().max(1) as f64;
     let residual_variance = values.iter().zip(fitted).map(|(y, x)| (y - x).powi(2)).sum::<f64>() / n;
     if let Some((step, levels)) = exact(values, 10) {
@@ -153,8 +188,8 @@ pub fn detect(values: &[f64], fitted: &[f64], threshold: f64) -> Option<Lattice>
     }
     let range = values.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     let min_step = (0.5 * residual_variance.sqrt()).max(1e-6 * range);
-    if let Some((step, z, samples, noise)) = blurred(values, min_step, threshold) {
+    if let Some((step, z, samples, noise)) = blurred(values, min_step, thresholds.blurred) {
         return Some(Lattice { step, form: LatticeForm::Blurred { z, samples }, noise });
     }
-    sawtooth(values, fitted, min_step, threshold)
+    responses.iter().find_map(|response| sawtooth(values, response, min_step, thresholds.sawtooth))
 }

@@ -45,7 +45,7 @@ fn fundamental_scan(residual: &[f64], fitted: &[f64], f0: f64, df: f64, count: u
 /// (its median over the last tenth of the record) than `SWING_SIGMAS` residual σ. Chosen by
 /// time, as the readings' end is; past it the response sits within a few σ of rest and its phase
 /// stands still, so a misfit there would project on one phase alone.
-fn swinging_end(values: &[f64], fitted: &[f64]) -> usize {
+pub(super) fn swinging_end(values: &[f64], fitted: &[f64]) -> usize {
     let Some(rest) = rest_value(fitted) else { return 0 };
     let n = fitted.len();
     let sigma = (values.iter().zip(fitted).map(|(y, x)| (y - x).powi(2)).sum::<f64>() / n as f64).sqrt();
@@ -187,8 +187,13 @@ fn read(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::quantization::{blurred, detect};
+    use crate::quantization::{batch_threshold, blurred, detect, modal_corrected};
     use rand::{Rng, SeedableRng};
+
+    /// The sawtooth's bar in diagnosis: t₁₉ at 10⁻⁵.
+    fn bar() -> f64 {
+        batch_threshold(1e-5)
+    }
 
     /// A lightly damped decay of 12.8 Hz-like sampling with 700 moving samples, then rest.
     fn swing(n: usize) -> Vec<f64> {
@@ -238,7 +243,7 @@ mod tests {
             for _ in 0..10 {
                 let noise = gaussian(&mut rng, clean.len(), sigma, rho);
                 let y: Vec<f64> = clean.iter().zip(&noise).map(|(x, e)| x + e).collect();
-                assert!(sawtooth(&y, &clean, 0.5 * sigma, 8.0).is_none(), "rho {rho}");
+                assert!(sawtooth(&y, &clean, 0.5 * sigma, bar()).is_none(), "rho {rho}");
                 // A smooth misfit: the fitted response 2 % too small and 1 % slow.
                 let misfit: Vec<f64> = (0..clean.len())
                     .map(|k| {
@@ -249,7 +254,7 @@ mod tests {
                         }
                     })
                     .collect();
-                assert!(sawtooth(&y, &misfit, 0.5 * sigma, 8.0).is_none(), "misfit, rho {rho}");
+                assert!(sawtooth(&y, &misfit, 0.5 * sigma, bar()).is_none(), "misfit, rho {rho}");
             }
         }
         // A ripple periodic in the response, three times a rounding's amplitude for its period.
@@ -267,7 +272,7 @@ mod tests {
                 })
                 .collect()
         };
-        assert!(sawtooth(&ripple(3.0), &clean, 0.5 * sigma, 8.0).is_none());
+        assert!(sawtooth(&ripple(3.0), &clean, 0.5 * sigma, bar()).is_none());
         let found = sawtooth(&ripple(1.0), &clean, 0.5 * sigma, 8.0).expect("a rounding's amplitude");
         assert!((found.step / period - 1.0).abs() < 0.01, "{}", found.step);
     }
@@ -306,7 +311,57 @@ mod tests {
             for _ in 0..10 {
                 let noise = gaussian(&mut rng, n, sigma, rho);
                 let y: Vec<f64> = clean.iter().zip(&noise).map(|(x, e)| x + e).collect();
-                assert!(sawtooth(&y, &model, 0.5 * sigma, 8.0).is_none(), "rho {rho}");
+                assert!(sawtooth(&y, &model, 0.5 * sigma, bar()).is_none(), "rho {rho}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_sawtooths_bar_is_students_t_with_19_degrees_of_freedom() {
+        // scipy.stats.t.isf(1e-5, 19) = 5.626766232724045; isf(1e-7, 19) = 7.905112633688786.
+        assert!((batch_threshold(1e-5) - 5.626_766_232_724_045).abs() < 1e-6, "{}", batch_threshold(1e-5));
+        assert!((batch_threshold(1e-7) - 7.905_112_633_688_786).abs() < 1e-5, "{}", batch_threshold(1e-7));
+    }
+
+    /// A slow mode and a fast one, sampled at 128 Hz for `n` samples; `fast_decay` is the fast
+    /// mode's σ (1/s).
+    fn two_modes(n: usize, fast_decay: f64) -> Vec<f64> {
+        (0..n)
+            .map(|k| {
+                let t = k as f64 / 128.0;
+                let tau = 2.0 * std::f64::consts::PI;
+                0.8 * (-t / 6.0).exp() * (tau * 1.7 * t).cos()
+                    + 0.15 * (fast_decay * t).exp() * (tau * 10.9 * t).cos()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_high_modes_misfit_is_corrected_by_the_models_own_modes() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(14);
+        let n = 3000;
+        let times: Vec<f64> = (0..n).map(|k| k as f64 / 128.0).collect();
+        // The truth's 10.9 Hz mode decays at 0.5/s, the model's at 0.25/s: a fast oscillation
+        // that a decimated fit never sees and no 15-sample smooth follows.
+        let clean = two_modes(n, -0.5);
+        let model = two_modes(n, -0.25);
+        let tau = 2.0 * std::f64::consts::PI;
+        let poles = [(-1.0 / 6.0, tau * 1.7), (-0.25, tau * 10.9)];
+        let sigma = 0.004;
+        let step = 3.2 * sigma;
+        let noise = gaussian(&mut rng, n, sigma, 0.0);
+        let y: Vec<f64> = clean.iter().zip(&noise).map(|(x, e)| step * (x / step).round() + e).collect();
+        assert!(sawtooth(&y, &model, 0.5 * sigma, 8.0).is_none(), "the model and its smooth alone");
+        let corrected = modal_corrected(&y, &model, &times, &poles);
+        let lattice = sawtooth(&y, &corrected, 0.5 * sigma, 8.0).expect("the corrected reading");
+        assert!((lattice.step / step - 1.0).abs() < 0.01, "{} vs {step}", lattice.step);
+        // No quantizer: the corrected response shows no lattice in white or coloured noise.
+        for rho in [0.0, 0.5, 0.9] {
+            for _ in 0..10 {
+                let noise = gaussian(&mut rng, n, sigma, rho);
+                let y: Vec<f64> = clean.iter().zip(&noise).map(|(x, e)| x + e).collect();
+                let corrected = modal_corrected(&y, &model, &times, &poles);
+                assert!(sawtooth(&y, &corrected, 0.5 * sigma, bar()).is_none(), "rho {rho}");
             }
         }
     }

@@ -1,0 +1,64 @@
+//! The fitted response corrected by the model's own modes before a sawtooth is read about it
+//! (see the module notes of `quantization`).
+
+use super::sawtooth::swinging_end;
+use faer::Mat;
+
+/// `fitted` corrected by the model's own modal decays: over the samples [`sawtooth`] reads
+/// (`swinging_end`), the residual's least-squares fit by a constant and, for each pole
+/// s = σ + iω of the fitted model's linear dynamics (`poles`, upper half plane, s⁻¹), the decays
+/// e^{σt}cos ωt, e^{σt}sin ωt and the same times t — a small error of a mode's amplitude, phase,
+/// frequency or decay, to first order — added to the response at every sample. A decimated fit
+/// never sees the modes above its Nyquist frequency, and a misfit of a high mode's decay in the
+/// raw record is a fast oscillation no local smooth follows; the correction removes it with
+/// four numbers a mode, far too few to follow a sawtooth that changes with every step crossed.
+/// Solved by SVD, singular values below 10⁻¹⁰ of the largest cut (close poles give near-equal
+/// columns); `fitted` is returned as it is when the sizes disagree or the SVD fails.
+pub fn modal_corrected(values: &[f64], fitted: &[f64], times: &[f64], poles: &[(f64, f64)]) -> Vec<f64> {
+    let n = fitted.len();
+    if values.len() != n || times.len() != n || n == 0 {
+        return fitted.to_vec();
+    }
+    let end = swinging_end(values, fitted);
+    let t0 = times[0];
+    let nyquist = std::f64::consts::PI / ((times[n - 1] - t0) / (n - 1).max(1) as f64);
+    let mut columns: Vec<Box<dyn Fn(f64) -> f64>> = vec![Box::new(|_| 1.0)];
+    for &(sigma, omega) in poles.iter().filter(|(s, w)| s.is_finite() && w.is_finite() && *w < nyquist) {
+        let decay = move |t: f64| (sigma * t).exp();
+        columns.push(Box::new(move |t| decay(t) * (omega * t).cos()));
+        columns.push(Box::new(move |t| t * decay(t) * (omega * t).cos()));
+        if omega > 0.0 {
+            columns.push(Box::new(move |t| decay(t) * (omega * t).sin()));
+            columns.push(Box::new(move |t| t * decay(t) * (omega * t).sin()));
+        }
+    }
+    let m = columns.len();
+    if end < 4 * m {
+        return fitted.to_vec();
+    }
+    let basis = Mat::<f64>::from_fn(n, m, |k, j| columns[j](times[k] - t0));
+    if !(0..m).all(|j| (0..n).all(|k| basis[(k, j)].is_finite())) {
+        return fitted.to_vec();
+    }
+    // Each column scaled to unit norm over the rows fitted, so that the cutoff is relative.
+    let norms: Vec<f64> = (0..m)
+        .map(|j| (0..end).map(|k| basis[(k, j)].powi(2)).sum::<f64>().sqrt().max(f64::MIN_POSITIVE))
+        .collect();
+    let a = Mat::<f64>::from_fn(end, m, |k, j| basis[(k, j)] / norms[j]);
+    let Ok(svd) = a.thin_svd() else { return fitted.to_vec() };
+    let (u, sv, v) = (svd.U(), svd.S(), svd.V());
+    let largest = (0..sv.dim()).map(|i| sv[i]).fold(0.0f64, f64::max);
+    let mut coefficients = vec![0.0; m];
+    for i in 0..sv.dim() {
+        if sv[i] <= 1e-10 * largest {
+            continue;
+        }
+        let projection: f64 = (0..end).map(|k| u[(k, i)] * (values[k] - fitted[k])).sum::<f64>() / sv[i];
+        for (j, c) in coefficients.iter_mut().enumerate() {
+            *c += v[(j, i)] * projection;
+        }
+    }
+    (0..n)
+        .map(|k| fitted[k] + (0..m).map(|j| basis[(k, j)] / norms[j] * coefficients[j]).sum::<f64>())
+        .collect()
+}
