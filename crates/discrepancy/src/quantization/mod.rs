@@ -130,11 +130,11 @@ fn golden_max(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, iterations: usize)
     0.5 * (a + b)
 }
 
-/// The batch means [`batch_z`] takes: without a lattice its z is Student's t with
-/// `BATCHES − 1` degrees of freedom.
+/// The batch means the blurred and sawtooth statistics are taken over: without a lattice their
+/// z is Student's t with `BATCHES − 1` degrees of freedom.
 pub const BATCHES: usize = 20;
 
-/// The z a statistic of [`batch_z`] needs for a false-alarm probability `alpha` (one-sided),
+/// The z a batch-means statistic needs for a false-alarm probability `alpha` (one-sided),
 /// from Student's t with `BATCHES − 1` degrees of freedom (8, the blurred test's bar, if the
 /// distribution cannot be had).
 pub fn batch_threshold(alpha: f64) -> f64 {
