@@ -23,9 +23,10 @@
 //!   that. Where the model misses by more than Δ/2π (it lacks another effect, say), the phase of
 //!   x̂ is scrambled; a second reading corrects x̂ by a local quadratic smooth of the residual,
 //!   which follows the smooth misfit but not the sawtooth that changes with every step crossed.
-//!   Before either reading, x̂ can be corrected by the fitted model's own modal decays
-//!   ([`modal_corrected`]): a decimated fit never sees the modes above its Nyquist frequency,
-//!   and their misfit in the raw record is too fast for the local smooth.
+//!   If neither finds it, both are made again about x̂ corrected by the fitted model's own
+//!   modal decays ([`modal_corrected`], [`detect_about`]): a decimated fit never sees the modes
+//!   above its Nyquist frequency, and their misfit in the raw record is too fast for the local
+//!   smooth.
 //!
 //! Either way the step matters only if it is comparable to the noise or larger (a record
 //! printed with six decimals lies on a 10⁻⁶ lattice too); [`Lattice::matters`] says so.
