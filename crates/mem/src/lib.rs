@@ -124,4 +124,5 @@ pub use report::{
     Combination, DerivativeCheck as DerivativeCheckReport, FitReport, Identifiability, Interval,
     IterationRecord, SeriesNoise, Side, Statistics, Warning,
 };
+pub use solve::truncated_svd_solve;
 pub use stats::t_quantile_975;

@@ -68,6 +68,21 @@ impl StepSolver {
     }
 }
 
+/// The least-squares solution δ of S δ ≈ r (m × j, m ≥ j) by the same column-equilibrated,
+/// truncated SVD as the MEM's step (Eqs. 11–13 at μ = 0): singular values below
+/// `rank_cutoff`·σ_max are dropped, so near-equal columns give the minimum-norm combination
+/// instead of cancelling giants. For any linear least-squares problem a workflow poses (a
+/// correction by a handful of basis functions, say), without forming SᵀS.
+///
+/// # Errors
+/// [`MemError::Shape`] for fewer rows than columns or `r` of another length; [`MemError::Svd`].
+pub fn truncated_svd_solve(s: Mat<f64>, r: &[f64], rank_cutoff: f64) -> Result<Vec<f64>, MemError> {
+    if r.len() != s.nrows() {
+        return Err(MemError::Shape(format!("{} residuals for a matrix of {} rows", r.len(), s.nrows())));
+    }
+    Ok(StepSolver::from_owned(s, r, rank_cutoff)?.step(0.0).0)
+}
+
 /// faer's SVD of the small j × j factor R: singular values (descending), U and V. Sequential,
 /// with its workspace sized by faer: for j ≪ m the thread-pool dispatch of `Mat::thin_svd`
 /// costs more than the decomposition.
@@ -188,6 +203,8 @@ mod tests {
         }
         // Normal equations hold at the least-squares step: Sᵀ(r − Sδ) = 0.
         let (delta, _) = solver.step(0.0);
+        assert_eq!(truncated_svd_solve(s.clone(), &r, 1e-12).unwrap(), delta);
+        assert!(matches!(truncated_svd_solve(s.clone(), &r[1..], 1e-12), Err(MemError::Shape(_))));
         for c in 0..3 {
             let g: f64 = (0..300)
                 .map(|i| s[(i, c)] * (r[i] - (0..3).map(|l| s[(i, l)] * delta[l]).sum::<f64>()))

@@ -12,9 +12,10 @@ use faer::Mat;
 /// never sees the modes above its Nyquist frequency, and a misfit of a high mode's decay in the
 /// raw record is a fast oscillation no local smooth follows; the correction removes it with
 /// four numbers a mode, far too few to follow a sawtooth that changes with every step crossed.
-/// Solved by SVD, singular values below 10⁻¹⁰ of the largest cut (close poles give near-equal
-/// columns); `fitted` is returned as it is when the sizes disagree, a column is not finite (an
-/// unstable pole over a long record) or the SVD fails.
+/// Solved by the MEM's own truncated SVD (`mem::truncated_svd_solve`, singular values below
+/// 10⁻¹⁰ of the largest cut: close poles give near-equal columns); `fitted` is returned as it is
+/// when the sizes disagree, a column is not finite (an unstable pole over a long record) or the
+/// SVD fails.
 pub fn modal_corrected(values: &[f64], fitted: &[f64], times: &[f64], poles: &[(f64, f64)]) -> Vec<f64> {
     let n = fitted.len();
     if values.len() != n || times.len() != n || n == 0 {
@@ -23,45 +24,33 @@ pub fn modal_corrected(values: &[f64], fitted: &[f64], times: &[f64], poles: &[(
     let end = swinging_end(values, fitted);
     let t0 = times[0];
     let nyquist = std::f64::consts::PI / ((times[n - 1] - t0) / (n - 1).max(1) as f64);
-    let mut columns: Vec<Box<dyn Fn(f64) -> f64>> = vec![Box::new(|_| 1.0)];
+    // Each column t^power · e^{σt} · (cos or sin) ωt, as (σ, ω, power, sine); the constant first.
+    let mut columns = vec![(0.0, 0.0, 0, false)];
     for &(sigma, omega) in poles.iter().filter(|(s, w)| s.is_finite() && w.is_finite() && *w < nyquist) {
-        let decay = move |t: f64| (sigma * t).exp();
-        columns.push(Box::new(move |t| decay(t) * (omega * t).cos()));
-        columns.push(Box::new(move |t| t * decay(t) * (omega * t).cos()));
-        if omega > 0.0 {
-            columns.push(Box::new(move |t| decay(t) * (omega * t).sin()));
-            columns.push(Box::new(move |t| t * decay(t) * (omega * t).sin()));
+        let phases: &[bool] = if omega > 0.0 { &[false, true] } else { &[false] };
+        for &sine in phases {
+            columns.extend([0, 1].map(|power| (sigma, omega, power, sine)));
         }
     }
     let m = columns.len();
     if end < 4 * m {
         return fitted.to_vec();
     }
-    let basis = Mat::<f64>::from_fn(n, m, |k, j| columns[j](times[k] - t0));
+    let basis = Mat::<f64>::from_fn(n, m, |k, j| {
+        let (sigma, omega, power, sine) = columns[j];
+        let t = times[k] - t0;
+        let wave = if sine { (omega * t).sin() } else { (omega * t).cos() };
+        t.powi(power) * (sigma * t).exp() * wave
+    });
     if !(0..m).all(|j| (0..n).all(|k| basis[(k, j)].is_finite())) {
         return fitted.to_vec();
     }
-    // Each column scaled to unit norm over the rows fitted, so that the cutoff is relative.
-    let norms: Vec<f64> = (0..m)
-        .map(|j| (0..end).map(|k| basis[(k, j)].powi(2)).sum::<f64>().sqrt().max(f64::MIN_POSITIVE))
-        .collect();
-    let a = Mat::<f64>::from_fn(end, m, |k, j| basis[(k, j)] / norms[j]);
-    let Ok(svd) = a.thin_svd() else { return fitted.to_vec() };
-    let (u, sv, v) = (svd.U(), svd.S(), svd.V());
-    let largest = (0..sv.dim()).map(|i| sv[i]).fold(0.0f64, f64::max);
-    let mut coefficients = vec![0.0; m];
-    for i in 0..sv.dim() {
-        if sv[i] <= 1e-10 * largest {
-            continue;
-        }
-        let projection: f64 = (0..end).map(|k| u[(k, i)] * (values[k] - fitted[k])).sum::<f64>() / sv[i];
-        for (j, c) in coefficients.iter_mut().enumerate() {
-            *c += v[(j, i)] * projection;
-        }
-    }
-    (0..n)
-        .map(|k| fitted[k] + (0..m).map(|j| basis[(k, j)] / norms[j] * coefficients[j]).sum::<f64>())
-        .collect()
+    let residual: Vec<f64> = (0..end).map(|k| values[k] - fitted[k]).collect();
+    let Ok(coefficients) = mem::truncated_svd_solve(basis.subrows(0, end).to_owned(), &residual, 1e-10)
+    else {
+        return fitted.to_vec();
+    };
+    (0..n).map(|k| fitted[k] + (0..m).map(|j| basis[(k, j)] * coefficients[j]).sum::<f64>()).collect()
 }
 
 #[cfg(test)]
