@@ -88,6 +88,10 @@ pub enum Verdict {
     /// it acts on (it removes less than [`super::MIN_SENSOR_STRUCTURE_EXPLAINED`] of it): what
     /// is missing acts on that output through the dynamics, and the sensor's error only shaves it.
     LeavesItsOutput,
+    /// A sensor scale that a mismatch of one of the model's own parameters, refitted alone in
+    /// its place, explains at least as well ([`ScaleRival`]): a wrong parameter is the simpler
+    /// answer than a sensor error, so the scale is not named.
+    MatchedByMismatch,
     /// A lattice that is not there, or a step far below the noise.
     NoLattice,
     /// The refit failed (the message says why).

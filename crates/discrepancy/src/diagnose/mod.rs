@@ -342,28 +342,41 @@ pub fn diagnose_observed(
     if wanted(EffectKind::SensorQuantization) {
         candidates.extend(quantization_candidates(&start, &raw, &data, &reference, &reference_free)?);
     }
-    let chosen = choose(&candidates, options.threshold);
+    // A named sensor scale is set against the model's own parameters it could stand for: if
+    // one of them, refitted alone, explains the data at least as well (in sample, one
+    // parameter each), a parameter mismatch is the simpler answer and nothing is named. The
+    // other candidates are not named in its place: they were scored against a reference
+    // without that mismatch, which may explain what they do.
     let mut scale_equivalents = Vec::new();
     let mut scale_rivals = Vec::new();
-    if let Some(i) = chosen {
+    let chosen = (|| {
+        let i = choose(&candidates, options.threshold)?;
         candidates[i].verdict = Verdict::Named;
-        if let Some(trial) = trials.get(i) {
-            polish(&mut candidates[i], trial, &reference_free, &data);
-            if let (EffectKind::SensorScale, Some(output), Some(fitted)) =
-                (trial.kind, trial.output, candidates[i].model.as_ref())
-            {
-                let refitted: Vec<String> = reference_free.iter().chain(&trial.freed).cloned().collect();
-                scale_equivalents = scale_equivalents_of(fitted, &data, output, &refitted);
-                let rivals = named::Rivals {
-                    reference: &reference.outcome.fitted,
-                    free: &reference_free,
-                    exclude: &scale_equivalents,
-                    to_match: candidates[i].evidence.in_sample - options.threshold,
-                };
-                scale_rivals =
-                    rivals.find(&data, |o| evidence::gain(&likelihoods(o), &reference_likelihoods));
-            }
+        let Some(trial) = trials.get(i) else { return Some(i) };
+        polish(&mut candidates[i], trial, &reference_free, &data);
+        let (EffectKind::SensorScale, Some(output), Some(fitted)) =
+            (trial.kind, trial.output, candidates[i].model.as_ref())
+        else {
+            return Some(i);
+        };
+        let refitted: Vec<String> = reference_free.iter().chain(&trial.freed).cloned().collect();
+        scale_equivalents = scale_equivalents_of(fitted, &data, output, &refitted);
+        let rivals = named::Rivals {
+            reference: &reference.outcome.fitted,
+            free: &reference_free,
+            exclude: &scale_equivalents,
+            to_match: candidates[i].evidence.in_sample - options.threshold,
+        };
+        scale_rivals = rivals.find(&data, |o| evidence::gain(&likelihoods(o), &reference_likelihoods));
+        if scale_rivals.iter().any(|r| r.in_sample >= candidates[i].evidence.in_sample) {
+            candidates[i].verdict = Verdict::MatchedByMismatch;
+            return None;
         }
+        Some(i)
+    })();
+    // The equivalents belong to a named scale only; the rivals also to a scale they unseated.
+    if chosen.is_none_or(|i| candidates[i].kind != EffectKind::SensorScale) {
+        scale_equivalents.clear();
     }
     // Named first, then by held-out evidence, then in-sample.
     let mut indexed: Vec<(usize, Candidate)> = candidates.into_iter().enumerate().collect();

@@ -36,7 +36,9 @@ pub struct DiagnosisReport<'a> {
     /// data cannot tell from the named calibration error (empty otherwise).
     pub equivalent_parameters: &'a [String],
     /// For a named sensor scale: the model's parameters that, refitted alone instead, explain
-    /// the data as well — mismatches these data do not rule out (empty otherwise).
+    /// the data as well — mismatches these data do not rule out; for a scale they unseated
+    /// ([`Verdict::MatchedByMismatch`]), those that explain them at least as well (empty
+    /// otherwise).
     pub rival_mismatches: &'a [super::ScaleRival],
 }
 
@@ -91,7 +93,7 @@ impl Diagnosis {
                         if self.scale_equivalents.len() == 1 { "it" } else { "them" },
                     ));
                 }
-                for r in &self.scale_rivals {
+                for r in self.scale_rivals.iter().filter(|_| c.kind == plant::EffectKind::SensorScale) {
                     out.push(format!(
                         "a mismatch of `{}` explains these data as well: refitted alone in place of the scale it \
                          moves from {:.5} to {:.5}{} and gains {:.1} nats (the scale {:.1}); one record of these \
@@ -147,6 +149,26 @@ impl Diagnosis {
                                  it acts on: what is missing there acts through the dynamics",
                                 100.0 * (1.0 - best.evidence.sensor_structure_explained.unwrap_or(0.0)).clamp(0.0, 1.0)
                             ),
+                            Verdict::MatchedByMismatch => self
+                                .scale_rivals
+                                .iter()
+                                .filter(|r| r.in_sample >= best.evidence.in_sample)
+                                .map(|r| {
+                                    format!(
+                                        "predictive on held-out blocks ({:.1} nats in sample), but a mismatch of `{}` \
+                                         refitted alone in its place explains the data at least as well ({:.1} nats; \
+                                         {:.5} → {:.5}{}): check `{}` before correcting the sensor",
+                                        best.evidence.in_sample,
+                                        r.name,
+                                        r.in_sample,
+                                        r.reference_value,
+                                        r.value,
+                                        r.std_error.map_or(String::new(), |se| format!(" ± {se:.5}")),
+                                        r.name
+                                    )
+                                })
+                                .collect::<Vec<_>>()
+                                .join("; "),
                             other => format!("{other:?}"),
                         }
                     ));
