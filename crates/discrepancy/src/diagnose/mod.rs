@@ -16,7 +16,11 @@
 //!    AR(1), [`evidence::structure`]): missing physics explains the structure it leaves, a
 //!    stand-in only shaves it;
 //! 6. a sensor effect removes at least half the structure on the one output it acts on
-//!    ([`MIN_SENSOR_STRUCTURE_EXPLAINED`]): a sensor's error acts there alone.
+//!    ([`MIN_SENSOR_STRUCTURE_EXPLAINED`]): a sensor's error acts there alone;
+//! 7. a sensor scale gains more in sample than each of the model's own parameters not refitted
+//!    (for the slewing rig also the beam's length and the hub's radius), refitted alone in its
+//!    place ([`ScaleRival`], [`Verdict::MatchedByMismatch`]): one parameter each, and a wrong
+//!    parameter is not a missing effect.
 //!
 //! Sensor quantization is a measurement model, not a force: it is named when the raw readings
 //! of a sensor lie on a lattice while the signal moves, with a step comparable to the noise or
