@@ -37,6 +37,15 @@ pub struct ScaleRival {
     pub in_sample: f64,
 }
 
+impl ScaleRival {
+    /// Whether this mismatch explains the data at least as well as a scale of in-sample gain
+    /// `scale_in_sample` (one parameter each): then the scale is not named
+    /// ([`Verdict::MatchedByMismatch`]).
+    pub fn unseats(&self, scale_in_sample: f64) -> bool {
+        self.in_sample >= scale_in_sample
+    }
+}
+
 /// The evidence for one candidate, every figure a difference of the same log-likelihood
 /// ([`super::evidence`]) to the reference's (the baseline with the model's own parameters free).
 #[derive(Clone, Debug, Default, Serialize)]

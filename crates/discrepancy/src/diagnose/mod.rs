@@ -372,7 +372,7 @@ pub fn diagnose_observed(
             to_match: candidates[i].evidence.in_sample - options.threshold,
         };
         scale_rivals = rivals.find(&data, |o| evidence::gain(&likelihoods(o), &reference_likelihoods));
-        if scale_rivals.iter().any(|r| r.in_sample >= candidates[i].evidence.in_sample) {
+        if scale_rivals.iter().any(|r| r.unseats(candidates[i].evidence.in_sample)) {
             candidates[i].verdict = Verdict::MatchedByMismatch;
             return None;
         }

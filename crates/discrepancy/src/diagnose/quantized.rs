@@ -14,10 +14,10 @@ use run::Fitted;
 /// the sawtooth alike: without a quantizer each z is a mean of [`quantization::BATCHES`] batch
 /// means over their spread, with the step and phase taken from the other half of the samples,
 /// so Student's t₁₉; the bar this sets is 5.63. Both were checked on the study's draws
-/// (docs/diagnose.md, "Calibrating the lattice bars"): the sawtooth's 6,834 readings of 1,644
+/// (docs/diagnose.md, "The bar from t₁₉" and "The blurred lattice's bar from the same calibration"): the sawtooth's 6,834 readings of 1,644
 /// unquantized sensor records followed t₁₉'s tail (30 above 3 where it expects 25, 3 above 4
 /// where it expects 2.6), the largest 3.89; the blurred test's 2,385 records of the
-/// development set, seven held-out draws and the blind set (`examples/lattice_null.rs`) 11
+/// development set, six held-out draws (seeds 3307–8821) and the blind set (`examples/lattice_null.rs`) 11
 /// above 3 where it expects 8.8 and 2 above 4 where it expects 0.9, the largest 4.66.
 const LATTICE_FALSE_ALARM: f64 = 1e-5;
 

@@ -93,7 +93,7 @@ impl Diagnosis {
                         if self.scale_equivalents.len() == 1 { "it" } else { "them" },
                     ));
                 }
-                for r in self.scale_rivals.iter().filter(|_| c.kind == plant::EffectKind::SensorScale) {
+                for r in &self.scale_rivals {
                     out.push(format!(
                         "a mismatch of `{}` explains these data as well: refitted alone in place of the scale it \
                          moves from {:.5} to {:.5}{} and gains {:.1} nats (the scale {:.1}); one record of these \
@@ -152,7 +152,7 @@ impl Diagnosis {
                             Verdict::MatchedByMismatch => self
                                 .scale_rivals
                                 .iter()
-                                .filter(|r| r.in_sample >= best.evidence.in_sample)
+                                .filter(|r| r.unseats(best.evidence.in_sample))
                                 .map(|r| {
                                     format!(
                                         "predictive on held-out blocks ({:.1} nats in sample), but a mismatch of `{}` \
