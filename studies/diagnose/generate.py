@@ -1211,13 +1211,13 @@ def main():
     ap.add_argument("--set", choices=["dev", "held"], required=True)
     ap.add_argument("--seed", type=int, default=None)
     ap.add_argument("--jobs", type=int, default=1)
-    ap.add_argument("--only", default=None, help="only cases whose name contains this")
+    ap.add_argument("--only", default=None, help="only cases whose name contains one of these (comma-separated)")
     ap.add_argument("--list", action="store_true", help="list the cases and exit")
     a = ap.parse_args()
     seed = DEFAULT_SEED[a.set] if a.seed is None else a.seed
     specs = case_specs(a.set)
     if a.only:
-        specs = [s for s in specs if a.only in s["name"]]
+        specs = [s for s in specs if any(o in s["name"] for o in a.only.split(","))]
     if a.list:
         for s in specs:
             print(s["name"], s["family"], s.get("strength", "-"), s["rate"])

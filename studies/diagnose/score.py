@@ -4,7 +4,7 @@
 usage (from the project root, after `cargo build --release -p memid`):
   python3 studies/diagnose/score.py DIR [--only-family X] [--limit N] [--jobs 1]
                                         [--out report.md] [--results results.json]
-                                        [--memid target/release/memid] [--timeout 900]
+                                        [--memid target/release/memid] [--timeout 900] [--keep DIR]
 
 Per case it runs
   memid diagnose --model M --data D --free F <args> --json out.json -o augmented.ron
@@ -273,6 +273,8 @@ def main():
     ap.add_argument("--results", default=None, help="write per-case results as JSON here")
     ap.add_argument("--memid", default="target/release/memid")
     ap.add_argument("--timeout", type=float, default=900.0)
+    ap.add_argument("--keep", default=None,
+                    help="keep each diagnosis's JSON and augmented model in this directory")
     opt = ap.parse_args()
     set_dir = os.path.abspath(opt.set_dir)
     if not os.path.exists(opt.memid):
@@ -284,7 +286,9 @@ def main():
         cases = cases[:opt.limit]
     t0 = time.time()
     recs = []
-    with tempfile.TemporaryDirectory() as work:
+    with tempfile.TemporaryDirectory() as tmp:
+        work = opt.keep or tmp
+        os.makedirs(work, exist_ok=True)
         def one(c):
             try:
                 return run_case(c, set_dir, opt, work)
