@@ -126,20 +126,41 @@ impl Decimation {
     ) {
         let half = (self.taps.len() - 1) / 2;
         let n = self.raw_samples;
+        let taps = self.taps.as_slice();
         let x = |m: usize| raw[offset + stride * m];
-        for k in 0..self.samples() {
-            let centre = k * self.factor;
-            let value = if centre >= half && centre + half < n {
-                let first = centre - half;
-                if stride == 1 {
-                    let window = &raw[offset + first..offset + first + self.taps.len()];
-                    window.iter().zip(self.taps.iter()).map(|(a, b)| a * b).sum()
-                } else {
-                    self.taps.iter().enumerate().map(|(i, t)| t * x(first + i)).sum()
+        // A strided series is gathered once (n reads) so that the filter's inner products run
+        // over contiguous memory.
+        let gathered: Option<Vec<f64>> = (stride != 1).then(|| (0..n).map(x).collect());
+        let series: &[f64] = gathered.as_deref().unwrap_or(&raw[offset.min(raw.len())..]);
+        // Samples whose window lies inside the record, in blocks of four: each sum is taken in
+        // the order of `Iterator::sum` (from −0.0, tap by tap), four independent sums side by
+        // side instead of one chain of additions — the same bits, several times faster.
+        let interior = |k: usize| k * self.factor >= half && k * self.factor + half < n;
+        let mut k = 0;
+        while k < self.samples() {
+            if interior(k) && k + 3 < self.samples() && interior(k + 3) {
+                let window = |l: usize| &series[(k + l) * self.factor - half..][..taps.len()];
+                let (w0, w1, w2, w3) = (window(0), window(1), window(2), window(3));
+                let mut acc = [-0.0_f64; 4];
+                for (i, t) in taps.iter().enumerate() {
+                    acc[0] += w0[i] * t;
+                    acc[1] += w1[i] * t;
+                    acc[2] += w2[i] * t;
+                    acc[3] += w3[i] * t;
                 }
+                for (l, a) in acc.into_iter().enumerate() {
+                    out[out_offset + out_stride * (k + l)] = a;
+                }
+                k += 4;
+                continue;
+            }
+            let centre = k * self.factor;
+            let value = if interior(k) {
+                let window = &series[centre - half..][..taps.len()];
+                window.iter().zip(taps).map(|(a, b)| a * b).sum()
             } else {
                 let mut acc = 0.0;
-                for (i, t) in self.taps.iter().enumerate() {
+                for (i, t) in taps.iter().enumerate() {
                     for (m, w) in reflect(centre as isize + i as isize - half as isize, n) {
                         acc += t * w * x(m);
                     }
@@ -147,6 +168,7 @@ impl Decimation {
                 acc
             };
             out[out_offset + out_stride * k] = value;
+            k += 1;
         }
     }
 
@@ -250,5 +272,56 @@ mod tests {
         let mut out = vec![0.0; 101];
         d.apply_strided(&raw, 0, 1, &mut out, 0, 1);
         assert!((out[0] - raw[0]).abs() < 1e-12);
+    }
+
+    /// The blocked, gathered kernel gives the bits of the plain definition: each output the
+    /// taps' inner product with the raw window in tap order (reflected at the ends), whether
+    /// the series is contiguous or interleaved with others, for record lengths whose interior
+    /// is not a multiple of the block.
+    #[test]
+    fn strided_and_blocked_filtering_matches_the_plain_inner_products() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+        for (factor, raw_samples) in [(10usize, 1001usize), (10, 1234), (3, 97), (4, 4000)] {
+            let d = Decimation::new(factor, raw_samples, 0.01);
+            let (stride, offset) = (3, 1);
+            let raw: Vec<f64> = (0..raw_samples * stride).map(|_| rng.random_range(-1.0..1.0)).collect();
+            let series: Vec<f64> = (0..raw_samples).map(|m| raw[offset + stride * m]).collect();
+            let half = (d.taps.len() - 1) / 2;
+            let plain = |k: usize| -> f64 {
+                let centre = k * factor;
+                if centre >= half && centre + half < raw_samples {
+                    let mut acc = -0.0;
+                    for (i, t) in d.taps.iter().enumerate() {
+                        acc += series[centre - half + i] * t;
+                    }
+                    acc
+                } else {
+                    let mut acc = 0.0;
+                    for (i, t) in d.taps.iter().enumerate() {
+                        for (m, w) in reflect(centre as isize + i as isize - half as isize, raw_samples) {
+                            acc += t * w * series[m];
+                        }
+                    }
+                    acc
+                }
+            };
+            let k = d.samples();
+            let mut strided = vec![f64::NAN; 2 * k + 1];
+            d.apply_strided(&raw, offset, stride, &mut strided, 1, 2);
+            let mut contiguous = vec![f64::NAN; k];
+            d.apply_strided(&series, 0, 1, &mut contiguous, 0, 1);
+            for j in 0..k {
+                let want = plain(j);
+                assert_eq!(
+                    strided[1 + 2 * j].to_bits(),
+                    want.to_bits(),
+                    "R {factor}, n {raw_samples}, k {j}"
+                );
+                assert_eq!(contiguous[j].to_bits(), want.to_bits(), "R {factor}, n {raw_samples}, k {j}");
+            }
+            // The output's other slots are left alone.
+            assert!(strided.iter().step_by(2).all(|v| v.is_nan()));
+        }
     }
 }

@@ -91,6 +91,51 @@ fn flat(m: &Mat<f64>) -> Vec<f64> {
     (0..m.nrows() * m.ncols()).map(|k| m[(k / m.ncols(), k % m.ncols())]).collect()
 }
 
+/// Column-major small dense matrix (for [`square_mul_add`]).
+fn flat_columns(m: &Mat<f64>) -> Vec<f64> {
+    (0..m.nrows() * m.ncols()).map(|k| m[(k % m.nrows(), k / m.nrows())]).collect()
+}
+
+/// y += M x for an n × n matrix stored column by column (`flat_columns`), n = `y.len()`.
+///
+/// Each row's sum is accumulated column by column from −0.0, the very sums in the very order
+/// of a row's dot product (`Iterator::sum`), so the bits are those of the row-major kernel —
+/// but the rows are independent lanes that run side by side in vector registers, where a
+/// row's dot product is one dependent chain of additions. The state dimensions of the models
+/// (two per mode and rigid body) are unrolled at compile time so the sums stay in registers.
+fn square_mul_add(m: &[f64], x: &[f64], y: &mut [f64]) {
+    match y.len() {
+        2 => square_mul_add_fixed::<2>(m, x, y),
+        4 => square_mul_add_fixed::<4>(m, x, y),
+        6 => square_mul_add_fixed::<6>(m, x, y),
+        8 => square_mul_add_fixed::<8>(m, x, y),
+        10 => square_mul_add_fixed::<10>(m, x, y),
+        12 => square_mul_add_fixed::<12>(m, x, y),
+        14 => square_mul_add_fixed::<14>(m, x, y),
+        16 => square_mul_add_fixed::<16>(m, x, y),
+        n => {
+            for (r, yr) in y.iter_mut().enumerate() {
+                *yr += (0..n).map(|c| m[c * n + r] * x[c]).sum::<f64>();
+            }
+        }
+    }
+}
+
+/// [`square_mul_add`] for N states known at compile time.
+#[inline(always)]
+fn square_mul_add_fixed<const N: usize>(m: &[f64], x: &[f64], y: &mut [f64]) {
+    let mut acc = [-0.0_f64; N];
+    for (column, xc) in m.chunks_exact(N).zip(&x[..N]) {
+        let column: &[f64; N] = column.try_into().expect("N entries");
+        for r in 0..N {
+            acc[r] += column[r] * xc;
+        }
+    }
+    for (yr, a) in y.iter_mut().zip(acc) {
+        *yr += a;
+    }
+}
+
 /// y += M x for a row-major r × c matrix (the few force columns unrolled: the gains G are
 /// applied four times per substep and dominate the kernel's time).
 #[inline(always)]
@@ -147,7 +192,8 @@ impl Workspace {
     }
 }
 
-/// One step's matrices, flattened.
+/// One step's matrices, flattened: Φ and ∂Φ/∂P_i column by column ([`square_mul_add`]), the
+/// force gains row by row ([`mul_add`]).
 struct Step {
     m: usize,
     phi: Vec<f64>,
@@ -169,11 +215,11 @@ impl Step {
         let zoh = &g.now + &g.next;
         Ok(Self {
             m: lin.g.ncols(),
-            phi: flat(&g.phi),
+            phi: flat_columns(&g.phi),
             now: flat(&g.now),
             next: flat(&g.next),
             zoh: flat(&zoh),
-            d_phi: g.d_phi.iter().map(flat).collect(),
+            d_phi: g.d_phi.iter().map(flat_columns).collect(),
             d_zoh: g.d_now.iter().zip(&g.d_next).map(|(a, b)| flat(&(a + b))).collect(),
             d_now: g.d_now.iter().map(flat).collect(),
             d_next: g.d_next.iter().map(flat).collect(),
@@ -196,12 +242,12 @@ impl Step {
         forcing.at(x, sensitivities, t_x);
         // c_i = Φ s_i + Φ_i x (shared by predictor and corrector), Φ x.
         phi_x.fill(0.0);
-        mul_add(&self.phi, n, x, phi_x);
+        square_mul_add(&self.phi, x, phi_x);
         c[..n * j].fill(0.0);
         for i in 0..j {
             let (si, ci) = (&s[i * n..(i + 1) * n], &mut c[i * n..(i + 1) * n]);
-            mul_add(&self.phi, n, si, ci);
-            mul_add(&self.d_phi[i], n, x, ci);
+            square_mul_add(&self.phi, si, ci);
+            square_mul_add(&self.d_phi[i], x, ci);
             t_x.directional(si, i, &mut u[i * m..(i + 1) * m]);
         }
         // Predictor a = Φx + G f(x) and its derivatives.
@@ -321,4 +367,29 @@ pub(crate) fn integrate(
         return Err(NonlinearError::Solver("the sensitivities left the finite numbers".into()));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    /// The column-major kernel gives the bits of a row's dot product (`Iterator::sum`), for
+    /// the unrolled state dimensions and the general one alike.
+    #[test]
+    fn square_kernel_matches_the_row_dot_products_bit_for_bit() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(11);
+        for n in 1..=19 {
+            let m = Mat::<f64>::from_fn(n, n, |_, _| rng.random_range(-2.0..2.0));
+            let x: Vec<f64> = (0..n).map(|_| rng.random_range(-3.0..3.0)).collect();
+            let y0: Vec<f64> = (0..n).map(|_| rng.random_range(-1.0..1.0)).collect();
+            let want: Vec<f64> =
+                (0..n).map(|r| y0[r] + (0..n).map(|c| m[(r, c)] * x[c]).sum::<f64>()).collect();
+            let mut y = y0.clone();
+            square_mul_add(&flat_columns(&m), &x, &mut y);
+            for r in 0..n {
+                assert_eq!(y[r].to_bits(), want[r].to_bits(), "n = {n}, row {r}");
+            }
+        }
+    }
 }
