@@ -437,3 +437,37 @@ fn step_equals_the_pseudo_inverse_from_faers_own_thin_svd() {
         );
     }
 }
+
+/// A response that depends on no parameter (a model at rest, not driven).
+struct AtRest;
+
+impl mem::ResponseModel for AtRest {
+    fn n_params(&self) -> usize {
+        1
+    }
+    fn output_names(&self) -> Vec<String> {
+        vec!["y0".into()]
+    }
+    fn respond(&self, _p: &[f64], _grid: &Grid<'_>, out: &mut mem::Response) -> Result<(), mem::BoxedError> {
+        out.outputs.fill(0.0);
+        out.sensitivities.fill(0.0);
+        Ok(())
+    }
+}
+
+/// Moving data and a response that depends on nothing are refused at the start, whether or not
+/// the derivative check runs (a fit that skips it must not skip this check too).
+#[test]
+fn a_response_that_depends_on_nothing_is_refused_with_or_without_the_derivative_check() {
+    let values = Mat::from_fn(100, 1, |k, _| (k as f64 * 0.3).sin());
+    let data = mem::Measurement::new(vec!["y0".into()], 0.0, 0.05, values).unwrap();
+    for check in [DerivativeCheck::Skip, DerivativeCheck::Warn, DerivativeCheck::Error] {
+        let error = Fit::new()
+            .with_derivative_check(check)
+            .run(&Problem::unnamed(vec![Experiment::new(&AtRest, &data)], &[1.0]).unwrap())
+            .err()
+            .unwrap();
+        assert!(matches!(error, MemError::NothingToFit { .. }), "{check:?}: {error}");
+        assert!(error.to_string().contains("does not change with any parameter"), "{error}");
+    }
+}
