@@ -20,47 +20,48 @@ fn fundamental(residual: &[f64], fitted: &[f64], frequency: f64) -> (f64, f64) {
 /// f_j = f₀ + j·df, j < count, each sample's phasor turned by exp(2πi x·df) from one grid point
 /// to the next instead of recomputed (renormalised every 64 steps).
 fn fundamental_scan(residual: &[f64], fitted: &[f64], f0: f64, df: f64, count: usize) -> Vec<f64> {
-    /// Samples whose phasors turn side by side: their chains are independent, and each grid
-    /// point still adds them in sample order, so the sums are those of one sample at a time.
-    const LANES: usize = 4;
     let mut c = vec![0.0; count];
     let mut s = vec![0.0; count];
+    let n = residual.len().min(fitted.len());
+    let blocks = n / 4 * 4;
+    scan_lanes::<4>(&residual[..blocks], &fitted[..blocks], f0, df, &mut c, &mut s);
+    scan_lanes::<1>(&residual[blocks..n], &fitted[blocks..n], f0, df, &mut c, &mut s);
+    let n = residual.len().max(1) as f64;
+    c.iter().zip(&s).map(|(c, s)| 2.0 * (c * c + s * s).sqrt() / n).collect()
+}
+
+/// Adds the samples' terms to the grid's sums `c`, `s`, L samples' phasors turning side by
+/// side: their chains are independent, and each grid point still adds them in sample order, so
+/// the sums are those of one sample at a time. The sample count is a multiple of L.
+fn scan_lanes<const L: usize>(
+    residual: &[f64],
+    fitted: &[f64],
+    f0: f64,
+    df: f64,
+    c: &mut [f64],
+    s: &mut [f64],
+) {
     let tau = 2.0 * std::f64::consts::PI;
-    let phasors = |x: f64| ((tau * f0 * x).sin_cos(), (tau * df * x).sin_cos());
-    let blocks = residual.len().min(fitted.len()) / LANES * LANES;
-    for (r, x) in residual[..blocks].chunks_exact(LANES).zip(fitted[..blocks].chunks_exact(LANES)) {
-        let (mut ps, mut pc, mut ws, mut wc) = ([0.0; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
-        for l in 0..LANES {
-            ((ps[l], pc[l]), (ws[l], wc[l])) = phasors(x[l]);
+    for (r, x) in residual.chunks_exact(L).zip(fitted.chunks_exact(L)) {
+        let (mut ps, mut pc, mut ws, mut wc) = ([0.0; L], [0.0; L], [0.0; L], [0.0; L]);
+        for l in 0..L {
+            (ps[l], pc[l]) = (tau * f0 * x[l]).sin_cos();
+            (ws[l], wc[l]) = (tau * df * x[l]).sin_cos();
         }
-        for j in 0..count {
-            for l in 0..LANES {
+        for j in 0..c.len() {
+            for l in 0..L {
                 c[j] += r[l] * pc[l];
                 s[j] += r[l] * ps[l];
                 (pc[l], ps[l]) = (pc[l] * wc[l] - ps[l] * ws[l], pc[l] * ws[l] + ps[l] * wc[l]);
             }
             if j % 64 == 63 {
-                for l in 0..LANES {
+                for l in 0..L {
                     let norm = (pc[l] * pc[l] + ps[l] * ps[l]).sqrt();
                     (pc[l], ps[l]) = (pc[l] / norm, ps[l] / norm);
                 }
             }
         }
     }
-    for (r, x) in residual[blocks..].iter().zip(&fitted[blocks..]) {
-        let ((mut ps, mut pc), (ws, wc)) = phasors(*x);
-        for j in 0..count {
-            c[j] += r * pc;
-            s[j] += r * ps;
-            (pc, ps) = (pc * wc - ps * ws, pc * ws + ps * wc);
-            if j % 64 == 63 {
-                let norm = (pc * pc + ps * ps).sqrt();
-                (pc, ps) = (pc / norm, ps / norm);
-            }
-        }
-    }
-    let n = residual.len().max(1) as f64;
-    c.iter().zip(&s).map(|(c, s)| 2.0 * (c * c + s * s).sqrt() / n).collect()
 }
 
 /// The end (exclusive) of the samples the sawtooth is read over: the later of the readings' own
