@@ -226,6 +226,17 @@ fn a_strain_scale_names_the_thickness_it_cannot_be_told_from() {
     assert!(d.answer().iter().any(|s| s.contains("`thickness`")), "{:?}", d.answer());
 }
 
+/// The strain gauge's scale was tried, and unseated by the beam's length, refitted alone in its
+/// place to within 3 standard errors of the truth's 1.2257 m with at least the scale's gain.
+fn assert_the_length_unseats_the_gauge_scale(d: &discrepancy::Diagnosis) {
+    let scale = d.candidates.iter().find(|c| c.label == "sensor_scale(strain)").expect("tried");
+    assert_eq!(scale.verdict, Verdict::MatchedByMismatch, "{:?}", d.answer());
+    let length = d.scale_rivals.iter().find(|r| r.name == "length").expect("the length is a rival");
+    let se = length.std_error.expect("determined");
+    assert!((length.value - 1.2257).abs() < 3.0 * se, "length {} ± {se}", length.value);
+    assert!(length.in_sample >= scale.evidence.in_sample, "{length:?}");
+}
+
 /// A beam 3 % longer than the file says, nothing else, from the study's independent truth plant
 /// (`fixtures/independent/slewing_length.py`, 1.2257 m against 1.19 m). With one strain gauge a
 /// length error and a gauge calibration error act alike; the length, refitted alone in place of
@@ -236,12 +247,7 @@ fn a_strain_scale_names_the_thickness_it_cannot_be_told_from() {
 fn a_longer_beam_is_a_length_mismatch_not_a_gauge_scale() {
     let d = decimated_fixture("slewing_length");
     assert!(d.named().is_none(), "{:?}", d.answer());
-    let scale = d.candidates.iter().find(|c| c.label == "sensor_scale(strain)").expect("tried");
-    assert_eq!(scale.verdict, Verdict::MatchedByMismatch, "{:?}", d.answer());
-    let length = d.scale_rivals.iter().find(|r| r.name == "length").expect("the length is a rival");
-    let se = length.std_error.expect("determined");
-    assert!((length.value - 1.2257).abs() < 3.0 * se, "length {} ± {se}", length.value);
-    assert!(length.in_sample >= scale.evidence.in_sample, "{length:?}");
+    assert_the_length_unseats_the_gauge_scale(&d);
     assert!(d.answer().iter().any(|s| s.contains("a mismatch of `length`")), "{:?}", d.answer());
     let json = serde_json::to_value(d.report()).unwrap();
     assert_eq!(json["effect"], "none", "{json}");
@@ -250,4 +256,19 @@ fn a_longer_beam_is_a_length_mismatch_not_a_gauge_scale() {
         json["candidates"].as_array().unwrap().iter().any(|c| c["verdict"] == "matched_by_mismatch"),
         "{json}"
     );
+}
+
+/// The same longer beam under weak coloured noise (`fixtures/independent/slewing_length_quiet.py`:
+/// AR(1), ρ = 0.7, 0.5 % of each output's RMS, another truth C_v, K_p, θ(0) and modal damping).
+/// The reference frees EI/ρ and ρ, beside which the length's direction is weak; its refit's
+/// first damped steps lower the error by parts in 10⁶. Stopped by the evidence tolerance there,
+/// the length stayed at the file's 1.19 m and the scale was named; run to the fitter's own
+/// convergence it reaches the truth's 1.2257 m and explains the record as well as the scale.
+#[test]
+fn a_longer_beam_under_weak_coloured_noise_is_still_a_length_mismatch() {
+    let d =
+        decimated_fixture_from("slewing_length_quiet", |t| t.replace("hub_angle: 0.5,", "hub_angle: 0.69,"));
+    assert!(d.named().is_none(), "{:?}", d.answer());
+    assert!(d.mismatch_parameters.iter().any(|p| p == "ei_over_rho"), "{:?}", d.mismatch_parameters);
+    assert_the_length_unseats_the_gauge_scale(&d);
 }

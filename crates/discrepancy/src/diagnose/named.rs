@@ -61,7 +61,8 @@ pub(super) fn scale_equivalents_of(
 
 /// The search for [`ScaleRival`]s of a named sensor scale: each of the model's own parameters
 /// the reference did not refit ([`run::scale_rival_parameters`]) is refitted alone beside the
-/// reference's, from the reference, in its range; those whose gain reaches `to_match` (the
+/// reference's, from the reference, in its range, to the fitter's own convergence
+/// ([`run::Precision::Optimum`]); those whose gain reaches `to_match` (the
 /// scale's in-sample gain less the held-out threshold) and that the data determine inside their
 /// range explain the record as well as the scale. A sensor's calibration and the structure's
 /// geometry can act alike on one output (the slewing rig's beam length on its one strain
@@ -94,7 +95,7 @@ impl Rivals<'_> {
                 let mut from = self.reference.clone();
                 from.set_bounds(name, *bounds).ok()?;
                 let free: Vec<String> = self.free.iter().chain([name]).cloned().collect();
-                let outcome = run::refit(&from, data, &free, None, 60).ok()?;
+                let outcome = run::refit_to(&from, data, &free, None, 60, run::Precision::Optimum).ok()?;
                 let in_sample = gain(&outcome);
                 let i = outcome.report.names.iter().position(|n| n == name)?;
                 (in_sample >= self.to_match && run::determined(&outcome, name)).then(|| ScaleRival {
