@@ -5,7 +5,8 @@
 //! samples, 5 free parameters, every candidate of the structure catalog). For backlash, the
 //! slewing catalog's dearest candidate: one exponential-integrator response with sensitivities of
 //! the rig with a geared dead band (12.8 Hz, 30 s, C_v, K_p and the band free) beside the same
-//! rig with a Coulomb friction, and a whole diagnosis of the independent backlash record
+//! rig with a Coulomb friction (and each response's outputs alone, what a fit's trial point costs
+//! before it is accepted), and a whole diagnosis of the independent backlash record
 //! (`fixtures/independent/effects/slewing_backlash.csv`, decimated to 12.8 Hz) and of the record
 //! with a heavily damped mode the search follows from its seeds (`slewing_damped_mode.csv`).
 
@@ -66,6 +67,11 @@ fn bench_backlash(c: &mut Criterion) {
         let mut out = expm::Response::zeros(385, 3, free.len());
         group.bench_function(format!("respond_12.8Hz/{name}"), |b| {
             b.iter(|| response.simulate(black_box(&p), 0.0, 1.0 / 12.8, &mut out).unwrap())
+        });
+        // The outputs alone: what a trial point of the fit costs before it is accepted.
+        let mut alone = expm::Response::zeros(385, 3, 0);
+        group.bench_function(format!("respond_outputs_12.8Hz/{name}"), |b| {
+            b.iter(|| response.simulate(black_box(&p), 0.0, 1.0 / 12.8, &mut alone).unwrap())
         });
     }
     let model = Model::load(&fixture("slewing.ron")).unwrap();

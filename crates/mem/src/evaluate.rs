@@ -77,10 +77,25 @@ fn scale_rows(values: &mut [f64], weights: &[f64]) {
     blocks.into_remainder().iter_mut().zip(pattern).for_each(|(v, w)| *v *= w);
 }
 
+/// What an evaluation computes: the residual alone (the cost of a trial point the iteration
+/// may reject) or the residual and S.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Wanted {
+    /// Outputs only: [`Evaluation::sensitivity`] has no columns.
+    Cost,
+    /// Outputs and sensitivities.
+    Sensitivities,
+}
+
 /// The model's response for one experiment on its data's rows (decimated if the data are).
-pub(crate) fn respond(problem: &Problem<'_>, index: usize, p: &[f64]) -> Result<Response, MemError> {
+pub(crate) fn respond(
+    problem: &Problem<'_>,
+    index: usize,
+    p: &[f64],
+    wanted: Wanted,
+) -> Result<Response, MemError> {
     let e = &problem.experiments[index];
-    sampled_response(e.model, e.data, &e.local(p)).map_err(|error| match error {
+    sampled(e.model, e.data, &e.local(p), wanted).map_err(|error| match error {
         MemError::Model { source, .. } => {
             MemError::Model { experiment: index, parameters: problem.describe(p), source }
         }
@@ -99,25 +114,41 @@ pub fn sampled_response(
     data: &Measurement,
     p: &[f64],
 ) -> Result<Response, MemError> {
+    sampled(model, data, p, Wanted::Sensitivities)
+}
+
+/// [`sampled_response`], with the sensitivities only if `wanted` (none are computed otherwise:
+/// the response then has no sensitivity columns).
+fn sampled(
+    model: &dyn ResponseModel,
+    data: &Measurement,
+    p: &[f64],
+    wanted: Wanted,
+) -> Result<Response, MemError> {
     let (start, interval, samples) = data.model_grid();
     let n_out = data.n_outputs();
-    let mut out = Response::zeros(samples, n_out, p.len());
+    let j = if wanted == Wanted::Sensitivities { p.len() } else { 0 };
+    let mut out = Response::zeros(samples, n_out, j);
     let grid = Grid { start, interval, inputs: data.inputs() };
     let failure =
         |source: crate::BoxedError| MemError::Model { experiment: 0, parameters: format!("{p:?}"), source };
-    model.respond(p, &grid, &mut out).map_err(failure)?;
+    match wanted {
+        Wanted::Sensitivities => model.respond(p, &grid, &mut out),
+        Wanted::Cost => model.respond_outputs(p, &grid, &mut out),
+    }
+    .map_err(failure)?;
     if !(out.outputs.as_ref().is_all_finite() && out.sensitivities.as_ref().is_all_finite()) {
         return Err(failure("the model's response or its sensitivities are not finite".into()));
     }
     let Some(decimation) = data.decimation() else { return Ok(out) };
     let k = decimation.samples();
-    let mut reduced = Response::zeros(k, n_out, p.len());
+    let mut reduced = Response::zeros(k, n_out, j);
     for o in 0..n_out {
         let raw = out.outputs.col(o).try_as_col_major().expect("an owned Mat is column-major").as_slice();
         let target = reduced.outputs.col_mut(o).try_as_col_major_mut().expect("an owned Mat is column-major");
         decimation.apply_strided(raw, 0, 1, target.as_slice_mut(), 0, 1);
     }
-    for i in 0..p.len() {
+    for i in 0..j {
         let raw =
             out.sensitivities.col(i).try_as_col_major().expect("an owned Mat is column-major").as_slice();
         let target =
@@ -130,19 +161,25 @@ pub fn sampled_response(
     Ok(reduced)
 }
 
-/// Simulates every experiment at P (in parallel when there are several).
+/// Simulates every experiment at P (in parallel when there are several): E and S.
 pub(crate) fn evaluate(problem: &Problem<'_>, p: &[f64]) -> Result<Evaluation, MemError> {
+    evaluate_for(problem, p, Wanted::Sensitivities)
+}
+
+/// As [`evaluate`], with S only if `wanted`; the residual and the cost are the same bits
+/// either way (the outputs are, [`ResponseModel::respond_outputs`]).
+pub(crate) fn evaluate_for(problem: &Problem<'_>, p: &[f64], wanted: Wanted) -> Result<Evaluation, MemError> {
     let experiments = &problem.experiments;
     let n_rows: usize = experiments.iter().map(|e| e.data.n_samples() * e.data.n_outputs()).sum();
     let mut residual: Vec<f64> = Vec::with_capacity(n_rows);
-    let simulate = |index: usize| respond(problem, index, p);
+    let simulate = |index: usize| respond(problem, index, p, wanted);
     let mut responses: Vec<Response> = if experiments.len() > 1 {
         use rayon::prelude::*;
         (0..experiments.len()).into_par_iter().map(simulate).collect::<Result<_, _>>()?
     } else {
         (0..experiments.len()).map(simulate).collect::<Result<_, _>>()?
     };
-    let j = p.len();
+    let j = if wanted == Wanted::Sensitivities { p.len() } else { 0 };
     // One experiment whose model takes the whole vector: its weighted S is the stacked S.
     let in_place = experiments.len() == 1 && experiments[0].parameters.is_none();
     let mut stacked = (!in_place).then(|| Mat::<f64>::zeros(n_rows, j));

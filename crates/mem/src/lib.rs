@@ -30,6 +30,10 @@
 //!   explicit cutoff (reported) are dropped, so ΔP is the minimum-norm least-squares solution.
 //! * **Safeguard**: Levenberg–Marquardt damping, min ‖SΔP − E‖² + μ‖DΔP‖²; a step is accepted
 //!   only if Eq. 22 decreases. μ = 0 is the paper's step ([`Safeguard::None`] reproduces it).
+//!   After a rejected trial, the next ones are first simulated for their outputs alone
+//!   ([`ResponseModel::respond_outputs`]): Eq. 22 needs no S, so a rejected retry never pays for
+//!   one, and the accepted point is simulated again with its sensitivities (the outputs are the
+//!   same bits, so the iterates are those of evaluating every trial in full).
 //! * **Bounds as constraints**: an active set holds a parameter on its bound when the data
 //!   pull it outward and solves the step for the others ([`Fit`]).
 //! * **Weights and several experiments**: each output's residual is multiplied by a weight

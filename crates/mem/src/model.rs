@@ -40,6 +40,20 @@ pub trait ResponseModel {
     /// # Errors
     /// The model's failure, boxed.
     fn respond(&self, p: &[f64], grid: &Grid<'_>, out: &mut Response) -> Result<(), BoxedError>;
+    /// Fills only `out.outputs` (`out` has no sensitivity columns): the cost of a trial point
+    /// the iteration may reject. The outputs must be those [`ResponseModel::respond`] gives,
+    /// bit for bit, so that accepting a trial does not depend on which was called. The
+    /// default calls `respond` and keeps the outputs; a model that can skip its sensitivities
+    /// overrides it.
+    ///
+    /// # Errors
+    /// The model's failure, boxed.
+    fn respond_outputs(&self, p: &[f64], grid: &Grid<'_>, out: &mut Response) -> Result<(), BoxedError> {
+        let mut full = Response::zeros(out.outputs.nrows(), out.outputs.ncols(), self.n_params());
+        self.respond(p, grid, &mut full)?;
+        out.outputs.copy_from(&full.outputs);
+        Ok(())
+    }
     /// Relative accuracy of the outputs and sensitivities (the derivative check's step and
     /// tolerance follow from it): about 1e-13 for the exponential, the tolerance of an ODE solver.
     fn accuracy(&self) -> f64 {

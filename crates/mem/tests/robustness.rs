@@ -3,9 +3,10 @@
 
 use faer::{Mat, mat};
 use mem::{
-    DerivativeCheck, Exact, Experiment, Fit, Grid, Interval, LinearModel, LinearResponse, Linearized,
-    MemError, Parameter, Problem, Safeguard, Side, Termination, Warning,
+    BoxedError, DerivativeCheck, Exact, Experiment, Fit, Grid, Interval, LinearModel, LinearResponse,
+    Linearized, MemError, Parameter, Problem, Response, ResponseModel, Safeguard, Side, Termination, Warning,
 };
+use std::sync::atomic::{AtomicUsize, Ordering};
 use test_problems::{
     HandDerivedBuilding, ProductOscillator, ShearBuilding, add_noise, parameters, simulate_measurement,
 };
@@ -121,6 +122,58 @@ fn bad_start_diverges_plainly_and_is_rescued_by_the_safeguard() {
     for w in safe.error_history.windows(2) {
         assert!(w[1] <= w[0], "an accepted step increased the error");
     }
+}
+
+/// A response that counts how it is asked: with sensitivities or for the outputs alone.
+struct Counting {
+    inner: LinearResponse<Oscillator>,
+    full: AtomicUsize,
+    outputs: AtomicUsize,
+}
+impl ResponseModel for Counting {
+    fn n_params(&self) -> usize {
+        self.inner.n_params()
+    }
+    fn output_names(&self) -> Vec<String> {
+        self.inner.output_names()
+    }
+    fn respond(&self, p: &[f64], grid: &Grid<'_>, out: &mut Response) -> Result<(), BoxedError> {
+        self.full.fetch_add(1, Ordering::Relaxed);
+        self.inner.respond(p, grid, out)
+    }
+    fn respond_outputs(&self, p: &[f64], grid: &Grid<'_>, out: &mut Response) -> Result<(), BoxedError> {
+        assert_eq!(out.sensitivities.ncols(), 0, "the outputs alone are asked for without columns");
+        self.outputs.fetch_add(1, Ordering::Relaxed);
+        self.inner.respond_outputs(p, grid, out)
+    }
+}
+
+#[test]
+fn a_rejected_trial_costs_its_outputs_alone() {
+    let plain = LinearResponse(Oscillator);
+    let data = simulate_measurement(&plain, &[0.2, 4.0], 0.05, 400, 0.0, 0);
+    let model = Counting {
+        inner: LinearResponse(Oscillator),
+        full: AtomicUsize::new(0),
+        outputs: AtomicUsize::new(0),
+    };
+    // The start of the test above: the damping rejects several trials.
+    let problem = Problem::unnamed(vec![Experiment::new(&model, &data)], &[0.2, 9.0]).unwrap();
+    let report = Fit::new().with_derivative_check(DerivativeCheck::Skip).run(&problem).unwrap();
+    assert_eq!(report.termination, Termination::Converged);
+    let retried: Vec<usize> = report.records.iter().map(|r| r.rejected_trials).filter(|&r| r > 0).collect();
+    assert!(!retried.is_empty(), "the start must make the damping reject a trial");
+    // An iteration's first trial is simulated in full; after it is rejected, each retry is
+    // costed on its outputs (the r − 1 rejected ones and the accepted one), and the accepted
+    // one simulated again in full. The start is simulated in full once.
+    let full = 1 + report.iterations + retried.len();
+    assert_eq!(model.full.load(Ordering::Relaxed), full);
+    assert_eq!(model.outputs.load(Ordering::Relaxed), retried.iter().sum::<usize>());
+    // And the fit is the one of the plain model, bit for bit.
+    let problem = Problem::unnamed(vec![Experiment::new(&plain, &data)], &[0.2, 9.0]).unwrap();
+    let again = Fit::new().with_derivative_check(DerivativeCheck::Skip).run(&problem).unwrap();
+    assert_eq!(report.parameters, again.parameters);
+    assert_eq!(report.error_history, again.error_history);
 }
 
 #[test]

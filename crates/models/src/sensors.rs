@@ -85,15 +85,38 @@ impl ResponseModel for WithSensors {
         self.inner.growth_rate(&inner)
     }
     fn respond(&self, p: &[f64], grid: &Grid<'_>, out: &mut Response) -> Result<(), BoxedError> {
-        let j = self.physics.len();
+        self.sense(p, grid, out, true)
+    }
+    fn respond_outputs(&self, p: &[f64], grid: &Grid<'_>, out: &mut Response) -> Result<(), BoxedError> {
+        self.sense(p, grid, out, false)
+    }
+}
+
+impl WithSensors {
+    /// The dynamics' response as the sensors read it, with the sensitivities if `sensitivities`
+    /// (the outputs are the same bits either way).
+    fn sense(
+        &self,
+        p: &[f64],
+        grid: &Grid<'_>,
+        out: &mut Response,
+        sensitivities: bool,
+    ) -> Result<(), BoxedError> {
+        let j = if sensitivities { self.physics.len() } else { 0 };
         let (k, n_out) = (out.outputs.nrows(), out.outputs.ncols());
         let mut raw = Response::zeros(k, n_out, j);
         let inner: Vec<f64> = self.physics.iter().map(|&i| p[i]).collect();
-        self.inner.respond(&inner, grid, &mut raw)?;
+        if sensitivities {
+            self.inner.respond(&inner, grid, &mut raw)?;
+        } else {
+            self.inner.respond_outputs(&inner, grid, &mut raw)?;
+        }
         out.outputs.copy_from(&raw.outputs);
-        out.sensitivities.fill(0.0);
-        for (c, &i) in self.physics.iter().enumerate() {
-            out.sensitivities.as_mut().col_mut(i).copy_from(raw.sensitivities.col(c));
+        if sensitivities {
+            out.sensitivities.fill(0.0);
+            for (c, &i) in self.physics.iter().enumerate() {
+                out.sensitivities.as_mut().col_mut(i).copy_from(raw.sensitivities.col(c));
+            }
         }
         let value = |e: &SensorEffect| e.free.map_or(e.value, |i| p[i]);
         // Scales first (they multiply the dynamics' output and sensitivities), then the sums.
@@ -101,6 +124,9 @@ impl ResponseModel for WithSensors {
             let factor = 1.0 + value(e);
             for t in 0..k {
                 out.outputs[(t, e.output)] *= factor;
+                if !sensitivities {
+                    continue;
+                }
                 for &i in &self.physics {
                     out.sensitivities[(t * n_out + e.output, i)] *= factor;
                 }
@@ -118,7 +144,7 @@ impl ResponseModel for WithSensors {
                     _ => (v * time, time),
                 };
                 out.outputs[(t, e.output)] += add;
-                if let Some(i) = e.free {
+                if sensitivities && let Some(i) = e.free {
                     out.sensitivities[(t * n_out + e.output, i)] = slope;
                 }
             }

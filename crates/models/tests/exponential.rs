@@ -126,3 +126,44 @@ fn exponential_sensitivities_are_the_derivatives_of_its_recursion() {
 /// Relative step of the central differences: 10⁻⁵ balances their truncation error against the
 /// rounding of 38 400 substeps (both near 10⁻⁶ of the sensitivity's scale).
 const STEP: f64 = 1e-5;
+
+/// The outputs alone (`respond_outputs`, what the fitter's trial points cost) are the bits of
+/// the full response's outputs, for every effect of the catalog, bare and behind sensor terms.
+#[test]
+fn outputs_alone_are_the_bits_of_the_full_response() {
+    let grid = Grid::free(1.0 / 12.8);
+    let same = |model: &dyn ResponseModel, p: &[f64], what: &str| {
+        let full = respond(model, p, 200, 1.0 / 12.8);
+        let mut alone = Response::zeros(200, 3, 0);
+        model.respond_outputs(p, &grid, &mut alone).unwrap();
+        for k in 0..200 {
+            for o in 0..3 {
+                assert_eq!(
+                    alone.outputs[(k, o)].to_bits(),
+                    full.outputs[(k, o)].to_bits(),
+                    "{what}: sample {k}, output {o}"
+                );
+            }
+        }
+        assert!(full.sensitivities.norm_max() > 0.0, "{what}: the full response has sensitivities");
+    };
+    for (effects, free) in CASES {
+        let model = with_effects(effects);
+        let p: Vec<f64> = free.iter().map(|n| model.get(model.parameter(n).unwrap())).collect();
+        let bare = ExponentialResponse::new(model.clone(), free).unwrap();
+        same(&bare, &p, effects);
+        // Behind an offset, a scale and a drift, each freed (the sensor adapter's own path).
+        let sensed = format!(
+            "{effects}, OutputOffset(sensor: Tachometer, offset: 0.01), SensorScale(sensor: StrainGauge, \
+             scale: 0.05), SensorDrift(sensor: Potentiometer, rate: 0.001)"
+        );
+        let model = models::Model::Slewing(with_effects(&sensed));
+        let mut names: Vec<&str> = free.to_vec();
+        names.extend(["offset_theta_dot", "scale_strain", "drift_theta"]);
+        let response = model
+            .response_with(&names, models::Integrator::Exponential { max_step: DEFAULT_MAX_STEP })
+            .unwrap();
+        let q: Vec<f64> = names.iter().map(|n| model.value(n).unwrap()).collect();
+        same(response.as_ref(), &q, &sensed);
+    }
+}

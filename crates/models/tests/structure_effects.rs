@@ -199,3 +199,21 @@ fn effects_are_checked_where_they_stand_and_written_back() {
     assert_eq!(again.value("friction_q2").unwrap(), 150.0);
     assert!(!again.is_linear());
 }
+
+/// The outputs alone (`respond_outputs`, what the fitter's trial points cost) are the bits of
+/// the full response's outputs.
+#[test]
+fn outputs_alone_are_the_bits_of_the_full_response() {
+    let model = with_effects(EFFECTS);
+    let free = ["k1", "beta", "cubic_q1", "drag_q3", "friction_q2"];
+    let response = model.response(&free).unwrap();
+    let p: Vec<f64> = free.iter().map(|n| model.value(n).unwrap()).collect();
+    let full = respond(response.as_ref(), &p, 300, 0.005);
+    let mut alone = Response::zeros(300, 2, 0);
+    response.respond_outputs(&p, &Grid::free(0.005), &mut alone).unwrap();
+    let bits = |m: &faer::Mat<f64>| {
+        (0..300).flat_map(|k| [m[(k, 0)].to_bits(), m[(k, 1)].to_bits()]).collect::<Vec<_>>()
+    };
+    assert_eq!(bits(&alone.outputs), bits(&full.outputs));
+    assert!(full.sensitivities.norm_max() > 0.0);
+}

@@ -2,7 +2,7 @@
 //! active set, ending in the report.
 
 use super::settings::{Fit, PERFECT_FIT, Safeguard, Termination, columns, free_set};
-use crate::evaluate::{Evaluation, evaluate};
+use crate::evaluate::{Evaluation, Wanted, evaluate, evaluate_for};
 use crate::report::{FitReport, IterationRecord, finish, start_checks};
 use crate::solve::StepSolver;
 use crate::vector::dot;
@@ -139,7 +139,11 @@ impl Fit {
     }
 
     /// Levenberg–Marquardt on the free parameters: damp until the error drops; None if it
-    /// never does.
+    /// never does. The first trial is simulated in full (it is usually accepted). Once one is
+    /// rejected, each further trial is first simulated for its outputs alone (a rejected one
+    /// needs only its cost) and, if accepted, again with its sensitivities. The outputs are the
+    /// same bits either way ([`crate::ResponseModel::respond_outputs`]), so the iterates are
+    /// those of evaluating every trial in full.
     #[allow(clippy::too_many_arguments)]
     fn damped_step(
         &self,
@@ -158,9 +162,22 @@ impl Fit {
                 return None;
             }
             let predicted = predicted_decrease(current, p, &trial);
-            if let Ok(e) = evaluate(problem, &trial)
-                && e.cost < current.cost
-            {
+            let lower = if rejected == 0 {
+                evaluate(problem, &trial).ok().filter(|e| e.cost < current.cost)
+            } else {
+                match evaluate_for(problem, &trial, Wanted::Cost) {
+                    Ok(e) if e.cost < current.cost => {
+                        let full = evaluate(problem, &trial).ok();
+                        debug_assert!(
+                            full.as_ref().is_none_or(|f| f.cost.to_bits() == e.cost.to_bits()),
+                            "respond_outputs must give the outputs of respond, bit for bit"
+                        );
+                        full
+                    }
+                    _ => None,
+                }
+            };
+            if let Some(e) = lower {
                 let gain = (current.cost - e.cost) / predicted.max(f64::MIN_POSITIVE);
                 let used = *mu;
                 *mu *= (1.0 / 3.0f64).max(1.0 - (2.0 * gain - 1.0).powi(3));

@@ -2,7 +2,7 @@
 //! and its sensitivities agree with central differences.
 
 use super::{DerivativeCheck, Warning};
-use crate::evaluate::{Evaluation, respond};
+use crate::evaluate::{Evaluation, Wanted, respond};
 use crate::fit::settings::{DerivativeCheck as Mode, Fit};
 use crate::{MemError, Problem};
 use expm::Response;
@@ -80,7 +80,7 @@ pub(crate) fn start_checks(
         Vec::new()
     } else {
         (0..problem.experiments.len())
-            .map(|index| respond(problem, index, p))
+            .map(|index| respond(problem, index, p, Wanted::Sensitivities))
             .collect::<Result<Vec<_>, _>>()?
     };
     if !sensitive && responses.iter().all(|r| r.sensitivities.norm_max() == 0.0) {
@@ -136,7 +136,7 @@ fn derivative_check(
     let outputs_at = |q: &[f64]| -> Result<Vec<f64>, MemError> {
         let mut all = Vec::new();
         for (index, e) in problem.experiments.iter().enumerate() {
-            let r = respond(problem, index, q)?;
+            let r = respond(problem, index, q, Wanted::Cost)?;
             for k in 0..r.outputs.nrows() {
                 for o in 0..r.outputs.ncols() {
                     all.push(e.weights[o] * r.outputs[(k, o)]);

@@ -172,6 +172,11 @@ impl ResponseModel for ExponentialResponse {
     fn respond(&self, p: &[f64], grid: &Grid<'_>, out: &mut Response) -> Result<(), BoxedError> {
         free_decay(grid, |start, h| self.simulate(p, start, h, out))
     }
+    fn respond_outputs(&self, p: &[f64], grid: &Grid<'_>, out: &mut Response) -> Result<(), BoxedError> {
+        // With no sensitivity columns the recursion steps x alone, through the same Φ and
+        // force gains (the exponential does not depend on the directions).
+        self.respond(p, grid, out)
+    }
     fn accuracy(&self) -> f64 {
         // The sensitivities are exact for the simulated recursion; its distance from the true
         // flow is O(h²) of the nonlinear forcing, far below any sensor's noise at the default

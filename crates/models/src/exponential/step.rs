@@ -204,6 +204,9 @@ struct Step {
     d_now: Vec<Vec<f64>>,
     d_next: Vec<Vec<f64>>,
     d_zoh: Vec<Vec<f64>>,
+    /// Whether P_i moves Φ or the force gains at all (a force law's own constants do not):
+    /// where it does not, their products with zero are skipped.
+    moves: Vec<bool>,
 }
 
 impl Step {
@@ -223,6 +226,9 @@ impl Step {
             d_zoh: g.d_now.iter().zip(&g.d_next).map(|(a, b)| flat(&(a + b))).collect(),
             d_now: g.d_now.iter().map(flat).collect(),
             d_next: g.d_next.iter().map(flat).collect(),
+            moves: (0..d.len())
+                .map(|i| [&g.d_phi[i], &g.d_now[i], &g.d_next[i]].iter().any(|m| m.norm_max() != 0.0))
+                .collect(),
         })
     }
 
@@ -247,7 +253,9 @@ impl Step {
         for i in 0..j {
             let (si, ci) = (&s[i * n..(i + 1) * n], &mut c[i * n..(i + 1) * n]);
             square_mul_add(&self.phi, si, ci);
-            square_mul_add(&self.d_phi[i], x, ci);
+            if self.moves[i] {
+                square_mul_add(&self.d_phi[i], x, ci);
+            }
             t_x.directional(si, i, &mut u[i * m..(i + 1) * m]);
         }
         // Predictor a = Φx + G f(x) and its derivatives.
@@ -257,7 +265,9 @@ impl Step {
         for i in 0..j {
             let dai = &mut da[i * n..(i + 1) * n];
             mul_add(&self.zoh, m, &u[i * m..(i + 1) * m], dai);
-            mul_add(&self.d_zoh[i], m, &t_x.value, dai);
+            if self.moves[i] {
+                mul_add(&self.d_zoh[i], m, &t_x.value, dai);
+            }
         }
         forcing.at(a, sensitivities, t_a);
         // Corrector.
@@ -268,10 +278,14 @@ impl Step {
             let si = &mut s[i * n..(i + 1) * n];
             si.copy_from_slice(&c[i * n..(i + 1) * n]);
             mul_add(&self.now, m, &u[i * m..(i + 1) * m], si);
-            mul_add(&self.d_now[i], m, &t_x.value, si);
+            if self.moves[i] {
+                mul_add(&self.d_now[i], m, &t_x.value, si);
+            }
             t_a.directional(&da[i * n..(i + 1) * n], i, ua);
             mul_add(&self.next, m, ua, si);
-            mul_add(&self.d_next[i], m, &t_a.value, si);
+            if self.moves[i] {
+                mul_add(&self.d_next[i], m, &t_a.value, si);
+            }
         }
     }
 }
@@ -326,8 +340,10 @@ pub(crate) fn integrate(
             Step::new(lin, d, rest)?.advance(&mut x, &mut s, forcing, wanted, &mut work);
         }
     }
-    let c = &lin.c;
-    let p_out = c.nrows();
+    // C and ∂C/∂P_i row by row (each output's sums in the order of its dot product).
+    let c = flat(&lin.c);
+    let dc: Vec<Vec<f64>> = d.iter().map(|di| flat(&di.c)).collect();
+    let p_out = lin.c.nrows();
     let k = out.outputs.nrows();
     let mut feed = Forces::new(m, j);
     let mut du = vec![0.0; m];
@@ -336,14 +352,21 @@ pub(crate) fn integrate(
             forcing.at(&x, wanted, &mut feed);
         }
         for o in 0..p_out {
-            let mut y: f64 = (0..n).map(|r| c[(o, r)] * x[r]).sum();
+            let row = &c[o * n..(o + 1) * n];
+            let mut y: f64 = row.iter().zip(&x).map(|(c, x)| c * x).sum();
             if let Some(hm) = &lin.h {
                 y += (0..m).map(|q| hm[(o, q)] * feed.value[q]).sum::<f64>();
             }
             out.outputs[(sample, o)] = y;
             for i in 0..j {
                 let si = &s[i * n..(i + 1) * n];
-                let mut dy: f64 = (0..n).map(|r| c[(o, r)] * si[r] + d[i].c[(o, r)] * x[r]).sum();
+                let d_row = &dc[i][o * n..(o + 1) * n];
+                let mut dy: f64 = row
+                    .iter()
+                    .zip(si)
+                    .zip(d_row.iter().zip(&x))
+                    .map(|((c, s), (dc, x))| c * s + dc * x)
+                    .sum();
                 if let (Some(hm), Some(dh)) = (&lin.h, &d[i].h) {
                     feed.directional(si, i, &mut du);
                     dy += (0..m).map(|q| hm[(o, q)] * du[q] + dh[(o, q)] * feed.value[q]).sum::<f64>();

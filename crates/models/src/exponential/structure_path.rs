@@ -165,6 +165,10 @@ impl ResponseModel for StructureExponential {
         }
         Ok(self.simulate(p, grid.start, grid.interval, out)?)
     }
+    fn respond_outputs(&self, p: &[f64], grid: &Grid<'_>, out: &mut Response) -> Result<(), BoxedError> {
+        // As the slewing path: x alone, through the same Φ and force gains.
+        self.respond(p, grid, out)
+    }
     fn accuracy(&self) -> f64 {
         // As the slewing path: exact sensitivities of the simulated recursion, O(h²) from the
         // true flow in the nonlinear forcing.
