@@ -165,14 +165,11 @@ impl Fit {
             let lower = if rejected == 0 {
                 evaluate(problem, &trial).ok().filter(|e| e.cost < current.cost)
             } else {
+                // The full simulation decides as well: a user's model whose outputs alone
+                // differ from its full response's never gets a step that raises the error.
                 match evaluate_for(problem, &trial, Wanted::Cost) {
                     Ok(e) if e.cost < current.cost => {
-                        let full = evaluate(problem, &trial).ok();
-                        debug_assert!(
-                            full.as_ref().is_none_or(|f| f.cost.to_bits() == e.cost.to_bits()),
-                            "respond_outputs must give the outputs of respond, bit for bit"
-                        );
-                        full
+                        evaluate(problem, &trial).ok().filter(|f| f.cost < current.cost)
                     }
                     _ => None,
                 }

@@ -120,8 +120,12 @@ impl ExponentialResponse {
         let model = model_at(&self.model, &self.free, p)?;
         let real: Dynamics<f64> = model.dynamics_with(|v| *v)?;
         let lifted: Dynamics<Dual64> = model.dynamics_with(|v| Dual64::from(*v))?;
-        let seeded: Vec<Dynamics<Dual64>> =
-            self.free.iter().map(|&id| crate::ode::seed(&model, id)).collect::<Result<_, _>>()?;
+        // The seeded dynamics give the sensitivities only: the outputs alone need none of them.
+        let seeded: Vec<Dynamics<Dual64>> = if out.sensitivities.ncols() == 0 {
+            Vec::new()
+        } else {
+            self.free.iter().map(|&id| crate::ode::seed(&model, id)).collect::<Result<_, _>>()?
+        };
         let n = real.layout.n_states;
         let parts = |a: &dyn Fn(usize, usize) -> f64,
                      g: &dyn Fn(usize, usize) -> f64,
