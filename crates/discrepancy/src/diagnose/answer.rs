@@ -20,29 +20,29 @@ pub struct EffectParameter {
     pub std_error: Option<f64>,
 }
 
-/// A model parameter that, refitted alone in place of a named sensor scale, explains the data
-/// as well (its in-sample gain within the held-out threshold of the scale's, or more): a
-/// mismatch of it is an answer these data do not rule out.
+/// A model parameter that, refitted alone in place of a named effect, explains the data as well
+/// (its in-sample gain within the held-out threshold of the effect's, or more): a mismatch of it
+/// is an answer these data do not rule out.
 #[derive(Clone, Debug, Serialize)]
-pub struct ScaleRival {
+pub struct Rival {
     /// Parameter name (`length`, …).
     pub name: String,
     /// Its value in the reference (the model file's, it was not refitted there).
     pub reference_value: f64,
-    /// Its value refitted in place of the scale.
+    /// Its value refitted in place of the effect.
     pub value: f64,
     /// Standard error of the refitted value.
     pub std_error: Option<f64>,
-    /// In-sample gain of that refit over the reference (nats), to set against the scale's.
+    /// In-sample gain of that refit over the reference (nats), to set against the effect's.
     pub in_sample: f64,
 }
 
-impl ScaleRival {
-    /// Whether this mismatch explains the data at least as well as a scale of in-sample gain
-    /// `scale_in_sample` (one parameter each): then the scale is not named
+impl Rival {
+    /// Whether this mismatch explains the data at least as well as an effect of in-sample gain
+    /// `effect_in_sample` (with no more parameters): then the effect is not named
     /// ([`Verdict::MatchedByMismatch`]).
-    pub fn unseats(&self, scale_in_sample: f64) -> bool {
-        self.in_sample >= scale_in_sample
+    pub fn unseats(&self, effect_in_sample: f64) -> bool {
+        self.in_sample >= effect_in_sample
     }
 }
 
@@ -97,9 +97,9 @@ pub enum Verdict {
     /// it acts on (it removes less than [`super::MIN_SENSOR_STRUCTURE_EXPLAINED`] of it): what
     /// is missing acts on that output through the dynamics, and the sensor's error only shaves it.
     LeavesItsOutput,
-    /// A sensor scale that a mismatch of one of the model's own parameters, refitted alone in
-    /// its place, explains at least as well ([`ScaleRival`]): a wrong parameter is the simpler
-    /// answer than a sensor error, so the scale is not named.
+    /// An effect that a mismatch of one of the model's own parameters, refitted alone in its
+    /// place, explains at least as well ([`Rival`]): a wrong parameter is the simpler answer
+    /// than a missing effect, so nothing is named.
     MatchedByMismatch,
     /// A lattice that is not there, or a step far below the noise.
     NoLattice,
@@ -163,9 +163,9 @@ pub struct Diagnosis {
     /// For a named sensor scale: the model's parameters (not refitted) that scale that output
     /// alone, so that the data cannot tell the named calibration error from an error in them.
     pub scale_equivalents: Vec<String>,
-    /// For a named sensor scale: the model's parameters that, refitted alone instead, explain
-    /// the data as well ([`ScaleRival`]).
-    pub scale_rivals: Vec<ScaleRival>,
+    /// For a named effect, or the one they unseated: the model's parameters that, refitted
+    /// alone instead, explain the data as well ([`Rival`]).
+    pub rivals: Vec<Rival>,
 }
 
 impl Diagnosis {

@@ -17,10 +17,12 @@
 //!    stand-in only shaves it;
 //! 6. a sensor effect removes at least half the structure on the one output it acts on
 //!    ([`MIN_SENSOR_STRUCTURE_EXPLAINED`]): a sensor's error acts there alone;
-//! 7. a sensor scale gains more in sample than each of the model's own parameters not refitted
-//!    (for the slewing rig also the beam's length and the hub's radius), refitted alone in its
-//!    place ([`ScaleRival`], [`Verdict::MatchedByMismatch`]): one parameter each, and a wrong
-//!    parameter is not a missing effect.
+//! 7. it gains more in sample than each of the model's own parameters not refitted (for the
+//!    slewing rig also the beam's length and the hub's radius), refitted alone in its place
+//!    ([`Rival`], [`Verdict::MatchedByMismatch`]): a wrong parameter is not a missing effect,
+//!    and one parameter that explains as much as an effect of one to three is the simpler
+//!    answer. (For a sensor scale, the parameters that scale its output alone are its exact
+//!    equivalents and reported as such, not tried.)
 //!
 //! Sensor quantization is a measurement model, not a force: it is named when the raw readings
 //! of a sensor lie on a lattice while the signal moves, with a step comparable to the noise or
@@ -35,7 +37,7 @@ mod report;
 mod residual;
 mod run;
 
-pub use answer::{Candidate, Diagnosis, EffectParameter, Evidence, ScaleRival, Verdict};
+pub use answer::{Candidate, Diagnosis, EffectParameter, Evidence, Rival, Verdict};
 pub use report::DiagnosisReport;
 
 pub use residual::{Band, ResidualStructure};
@@ -346,39 +348,41 @@ pub fn diagnose_observed(
     if wanted(EffectKind::SensorQuantization) {
         candidates.extend(quantization_candidates(&start, &raw, &data, &reference, &reference_free)?);
     }
-    // A named sensor scale is set against the model's own parameters it could stand for: if
-    // one of them, refitted alone, explains the data at least as well (in sample, one
-    // parameter each), a parameter mismatch is the simpler answer and nothing is named. The
-    // other candidates are not named in its place: they were scored against a reference
-    // without that mismatch, which may explain what they do.
+    // A named effect is set against the model's own parameters it could stand for: if one of
+    // them, refitted alone, explains the data at least as well (in sample), a parameter
+    // mismatch is the simpler answer and nothing is named. The other candidates are not named
+    // in its place: they were scored against a reference without that mismatch, which may
+    // explain what they do. A sensor scale's exact equivalents (the parameters that scale its
+    // output alone) are reported as such and not tried. A lattice is a measurement fact, not
+    // set against a mismatch.
     let mut scale_equivalents = Vec::new();
-    let mut scale_rivals = Vec::new();
+    let mut rivals = Vec::new();
     let chosen = (|| {
         let i = choose(&candidates, options.threshold)?;
         candidates[i].verdict = Verdict::Named;
         let Some(trial) = trials.get(i) else { return Some(i) };
         polish(&mut candidates[i], trial, &reference_free, &data);
-        let (EffectKind::SensorScale, Some(output), Some(fitted)) =
+        if let (EffectKind::SensorScale, Some(output), Some(fitted)) =
             (trial.kind, trial.output, candidates[i].model.as_ref())
-        else {
-            return Some(i);
-        };
-        let refitted: Vec<String> = reference_free.iter().chain(&trial.freed).cloned().collect();
-        scale_equivalents = scale_equivalents_of(fitted, &data, output, &refitted);
-        let rivals = named::Rivals {
+        {
+            let refitted: Vec<String> = reference_free.iter().chain(&trial.freed).cloned().collect();
+            scale_equivalents = scale_equivalents_of(fitted, &data, output, &refitted);
+        }
+        let search = named::Rivals {
             reference: &reference.outcome.fitted,
             free: &reference_free,
             exclude: &scale_equivalents,
             to_match: candidates[i].evidence.in_sample - options.threshold,
         };
-        scale_rivals = rivals.find(&data, |o| evidence::gain(&likelihoods(o), &reference_likelihoods));
-        if scale_rivals.iter().any(|r| r.unseats(candidates[i].evidence.in_sample)) {
+        rivals = search.find(&data, |o| evidence::gain(&likelihoods(o), &reference_likelihoods));
+        if rivals.iter().any(|r| r.unseats(candidates[i].evidence.in_sample)) {
             candidates[i].verdict = Verdict::MatchedByMismatch;
             return None;
         }
         Some(i)
     })();
-    // The equivalents belong to a named scale only; the rivals also to a scale they unseated.
+    // The equivalents belong to a named scale only; the rivals to a named effect or to the one
+    // they unseated.
     if chosen.is_none_or(|i| candidates[i].kind != EffectKind::SensorScale) {
         scale_equivalents.clear();
     }
@@ -405,7 +409,7 @@ pub fn diagnose_observed(
         chosen,
         threshold: options.threshold,
         scale_equivalents,
-        scale_rivals,
+        rivals,
     })
 }
 

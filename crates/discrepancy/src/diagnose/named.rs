@@ -4,7 +4,7 @@
 
 use super::answer::last_error;
 use super::catalog::Trial;
-use super::{Candidate, ScaleRival, Verdict, run};
+use super::{Candidate, Rival, Verdict, run};
 use mem::Measurement;
 use models::FitOutcome;
 use models::Model;
@@ -59,14 +59,15 @@ pub(super) fn scale_equivalents_of(
         .collect()
 }
 
-/// The search for [`ScaleRival`]s of a named sensor scale: each of the model's own parameters
-/// the reference did not refit ([`run::scale_rival_parameters`]) is refitted alone beside the
-/// reference's, from the reference, in its range, to the fitter's own convergence
-/// ([`run::Precision::Optimum`]); those whose gain reaches `to_match` (the
-/// scale's in-sample gain less the held-out threshold) and that the data determine inside their
-/// range explain the record as well as the scale. A sensor's calibration and the structure's
-/// geometry can act alike on one output (the slewing rig's beam length on its one strain
-/// gauge): the answer then says which mismatch the data do not rule out and what it would be.
+/// The search for [`Rival`]s of a named effect: each of the model's own parameters the
+/// reference did not refit ([`run::rival_parameters`]) is refitted alone beside the reference's,
+/// from the reference, in its range, to the fitter's own convergence
+/// ([`run::Precision::Optimum`]); those whose gain reaches `to_match` (the effect's in-sample
+/// gain less the held-out threshold) and that the data determine inside their range explain the
+/// record as well as the effect. A sensor's calibration and the structure's geometry can act
+/// alike on one output (the slewing rig's beam length on its one strain gauge), and a wrong
+/// length or density moves the modes as an unmodeled mode coupled to them does: the answer then
+/// says which mismatch the data do not rule out and what it would be.
 pub(super) struct Rivals<'a> {
     /// The reference's fitted model.
     pub reference: &'a Model,
@@ -79,16 +80,12 @@ pub(super) struct Rivals<'a> {
 }
 
 impl Rivals<'_> {
-    pub(super) fn find(
-        &self,
-        data: &Measurement,
-        gain: impl Fn(&FitOutcome) -> f64 + Sync,
-    ) -> Vec<ScaleRival> {
-        let tried: Vec<(String, (f64, f64))> = run::scale_rival_parameters(self.reference, self.free)
+    pub(super) fn find(&self, data: &Measurement, gain: impl Fn(&FitOutcome) -> f64 + Sync) -> Vec<Rival> {
+        let tried: Vec<(String, (f64, f64))> = run::rival_parameters(self.reference, self.free)
             .into_iter()
             .filter(|(n, _)| !self.exclude.contains(n))
             .collect();
-        tried
+        let mut found = tried
             .par_iter()
             .filter_map(|(name, bounds)| {
                 let reference_value = self.reference.value(name).ok()?;
@@ -98,7 +95,7 @@ impl Rivals<'_> {
                 let outcome = run::refit_to(&from, data, &free, None, 60, run::Precision::Optimum).ok()?;
                 let in_sample = gain(&outcome);
                 let i = outcome.report.names.iter().position(|n| n == name)?;
-                (in_sample >= self.to_match && run::determined(&outcome, name)).then(|| ScaleRival {
+                (in_sample >= self.to_match && run::determined(&outcome, name)).then(|| Rival {
                     name: name.clone(),
                     reference_value,
                     value: outcome.report.parameters[i],
@@ -106,7 +103,10 @@ impl Rivals<'_> {
                     in_sample,
                 })
             })
-            .collect()
+            .collect::<Vec<_>>();
+        // The best first; a stable sort keeps the order tried among equal gains.
+        found.sort_by(|a, b| b.in_sample.total_cmp(&a.in_sample));
+        found
     }
 }
 

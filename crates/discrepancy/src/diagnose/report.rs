@@ -35,11 +35,11 @@ pub struct DiagnosisReport<'a> {
     /// For a named sensor scale: the model's parameters that scale that output alone, which the
     /// data cannot tell from the named calibration error (empty otherwise).
     pub equivalent_parameters: &'a [String],
-    /// For a named sensor scale: the model's parameters that, refitted alone instead, explain
-    /// the data as well — mismatches these data do not rule out; for a scale they unseated
+    /// For a named effect: the model's parameters that, refitted alone instead, explain the
+    /// data as well — mismatches these data do not rule out; for an effect they unseated
     /// ([`Verdict::MatchedByMismatch`]), those that explain them at least as well (empty
     /// otherwise).
-    pub rival_mismatches: &'a [super::ScaleRival],
+    pub rival_mismatches: &'a [super::Rival],
 }
 
 impl Diagnosis {
@@ -93,11 +93,11 @@ impl Diagnosis {
                         if self.scale_equivalents.len() == 1 { "it" } else { "them" },
                     ));
                 }
-                for r in &self.scale_rivals {
+                for r in &self.rivals {
                     out.push(format!(
-                        "a mismatch of `{}` explains these data as well: refitted alone in place of the scale it \
-                         moves from {:.5} to {:.5}{} and gains {:.1} nats (the scale {:.1}); one record of these \
-                         outputs does not tell them apart, so check `{}` before correcting the sensor",
+                        "a mismatch of `{}` explains these data as well: refitted alone in place of the effect it \
+                         moves from {:.5} to {:.5}{} and gains {:.1} nats (the effect {:.1}); one record of these \
+                         outputs does not tell them apart, so check `{}` before adding the effect",
                         r.name,
                         r.reference_value,
                         r.value,
@@ -149,26 +149,32 @@ impl Diagnosis {
                                  it acts on: what is missing there acts through the dynamics",
                                 100.0 * (1.0 - best.evidence.sensor_structure_explained.unwrap_or(0.0)).clamp(0.0, 1.0)
                             ),
-                            Verdict::MatchedByMismatch => self
-                                .scale_rivals
-                                .iter()
-                                .filter(|r| r.unseats(best.evidence.in_sample))
-                                .map(|r| {
-                                    format!(
-                                        "predictive on held-out blocks ({:.1} nats in sample), but a mismatch of `{}` \
-                                         refitted alone in its place explains the data at least as well ({:.1} nats; \
-                                         {:.5} → {:.5}{}): check `{}` before correcting the sensor",
-                                        best.evidence.in_sample,
-                                        r.name,
-                                        r.in_sample,
-                                        r.reference_value,
-                                        r.value,
-                                        r.std_error.map_or(String::new(), |se| format!(" ± {se:.5}")),
-                                        r.name
-                                    )
-                                })
-                                .collect::<Vec<_>>()
-                                .join("; "),
+                            Verdict::MatchedByMismatch => {
+                                let unseating: Vec<String> = self
+                                    .rivals
+                                    .iter()
+                                    .filter(|r| r.unseats(best.evidence.in_sample))
+                                    .map(|r| {
+                                        format!(
+                                            "`{}` {:.5} → {:.5}{} ({:.1} nats)",
+                                            r.name,
+                                            r.reference_value,
+                                            r.value,
+                                            r.std_error.map_or(String::new(), |se| format!(" ± {se:.5}")),
+                                            r.in_sample
+                                        )
+                                    })
+                                    .collect();
+                                format!(
+                                    "predictive on held-out blocks ({:.1} nats in sample), but a mismatch of the \
+                                     model's own {} refitted alone in its place explains the data at least as well: \
+                                     {}; check {} before adding the effect",
+                                    best.evidence.in_sample,
+                                    if unseating.len() == 1 { "parameter" } else { "parameters, each" },
+                                    unseating.join(", "),
+                                    if unseating.len() == 1 { "it" } else { "them" }
+                                )
+                            }
                             other => format!("{other:?}"),
                         }
                     ));
@@ -196,7 +202,7 @@ impl Diagnosis {
             candidates: &self.candidates,
             localisation: &self.localisation,
             equivalent_parameters: &self.scale_equivalents,
-            rival_mismatches: &self.scale_rivals,
+            rival_mismatches: &self.rivals,
         }
     }
 }

@@ -418,12 +418,12 @@ pub fn determined(outcome: &FitOutcome, name: &str) -> bool {
     })
 }
 
-/// The model's own parameters, not refitted, that a named scale of one output is tried
-/// against as a mismatch, with the ranges they are refitted in: the mismatch parameters the
+/// The model's own parameters, not refitted, that a named effect is tried against as a
+/// mismatch, with the ranges they are refitted in: the mismatch parameters the
 /// reference left fixed, and the file's geometry (for the slewing rig the beam's length and the
-/// hub's radius, ±10 %; for a structure its fixed parameters, ±30 %). The exact equivalents
-/// (`scale_equivalents_of`) are left out: they are reported as such.
-pub fn scale_rival_parameters(model: &Model, refitted: &[String]) -> Vec<(String, (f64, f64))> {
+/// hub's radius, ±10 %; for a structure its fixed parameters, ±30 %). A sensor scale's exact
+/// equivalents (`scale_equivalents_of`) are left out by the caller: they are reported as such.
+pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<(String, (f64, f64))> {
     let named =
         |ids: Vec<(ParamId, (f64, f64))>| ids.into_iter().map(|(id, b)| (id.name(), b)).collect::<Vec<_>>();
     let all = match model {
