@@ -251,7 +251,7 @@ fn a_longer_beam_is_a_length_mismatch_not_a_gauge_scale() {
     assert!(
         d.answer()
             .iter()
-            .any(|s| s.contains("a mismatch of the model's own") && s.contains("`length` 1.19000 →")),
+            .any(|s| s.contains("of the model's own parameters") && s.contains("`length` 1.19000 →")),
         "{:?}",
         d.answer()
     );

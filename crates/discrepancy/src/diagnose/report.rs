@@ -165,14 +165,17 @@ impl Diagnosis {
                                         )
                                     })
                                     .collect();
+                                let one = unseating.len() == 1;
                                 format!(
-                                    "predictive on held-out blocks ({:.1} nats in sample), but a mismatch of the \
-                                     model's own {} refitted alone in its place explains the data at least as well: \
+                                    "predictive on held-out blocks ({:.1} nats in sample), but {} of the model's own \
+                                     parameters, {}refitted alone in its place, explain{} the data at least as well: \
                                      {}; check {} before adding the effect",
                                     best.evidence.in_sample,
-                                    if unseating.len() == 1 { "parameter" } else { "parameters, each" },
+                                    if one { "one".to_string() } else { unseating.len().to_string() },
+                                    if one { "" } else { "each " },
+                                    if one { "s" } else { "" },
                                     unseating.join(", "),
-                                    if unseating.len() == 1 { "it" } else { "them" }
+                                    if one { "it" } else { "them" }
                                 )
                             }
                             other => format!("{other:?}"),
