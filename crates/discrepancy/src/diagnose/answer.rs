@@ -90,8 +90,9 @@ pub enum Verdict {
     /// Fitted on half the record, it does not predict the other half better by the threshold.
     NotPredictive,
     /// It predicts better, but leaves the reference residual's predictable structure nearly as
-    /// it was (it removes less than [`super::MIN_STRUCTURE_EXPLAINED`] of it): it shaves a misfit
-    /// rather than explaining it.
+    /// it was (it removes less than [`super::MIN_STRUCTURE_EXPLAINED`] of it, an unmodeled mode
+    /// less than [`super::MIN_MODE_STRUCTURE_EXPLAINED`]): it shaves a misfit rather than
+    /// explaining it.
     Superficial,
     /// A sensor effect that predicts better but leaves most of the structure on the one output
     /// it acts on (it removes less than [`super::MIN_SENSOR_STRUCTURE_EXPLAINED`] of it): what
