@@ -22,7 +22,8 @@ pub struct EffectParameter {
 
 /// A model parameter that, refitted alone in place of a named effect, explains the data as well
 /// (its in-sample gain within the held-out threshold of the effect's, or more): a mismatch of it
-/// is an answer these data do not rule out.
+/// is an answer these data do not rule out. On the slewing rig it may also be a linear spring at
+/// the hub that the model lacks (`hub_stiffness`, [`Rival::added`]).
 #[derive(Clone, Debug, Serialize)]
 pub struct Rival {
     /// Parameter name (`length`, …).
@@ -35,6 +36,20 @@ pub struct Rival {
     pub std_error: Option<f64>,
     /// In-sample gain of that refit over the reference (nats), to set against the effect's.
     pub in_sample: f64,
+    /// Whether the parameter is not the model's own: the effect carrying it (a linear spring at
+    /// the hub) was added at zero to try it.
+    pub added: bool,
+}
+
+impl Rival {
+    /// `name`, and for an added parameter what it is.
+    pub(super) fn described(&self) -> String {
+        if self.added {
+            format!("`{}` (a linear spring at the hub, absent from the model)", self.name)
+        } else {
+            format!("`{}`", self.name)
+        }
+    }
 }
 
 impl Rival {
@@ -98,9 +113,10 @@ pub enum Verdict {
     /// it acts on (it removes less than [`super::MIN_SENSOR_STRUCTURE_EXPLAINED`] of it): what
     /// is missing acts on that output through the dynamics, and the sensor's error only shaves it.
     LeavesItsOutput,
-    /// An effect that a mismatch of one of the model's own parameters, refitted alone in its
-    /// place, explains at least as well ([`Rival`]): a wrong parameter is the simpler answer
-    /// than a missing effect, so nothing is named.
+    /// An effect that a mismatch of one of the model's own parameters (or a linear spring at
+    /// the slewing rig's hub), refitted alone in its place, explains at least as well
+    /// ([`Rival`]): one wrong parameter is the simpler answer than a missing effect, so nothing
+    /// is named.
     MatchedByMismatch,
     /// A lattice that is not there, or a step far below the noise.
     NoLattice,

@@ -20,10 +20,10 @@
 //!    mode removes at least half of all of it ([`MIN_MODE_STRUCTURE_EXPLAINED`]): a mode is
 //!    linear, as the model is, and where it is what is missing it leaves little but noise;
 //! 7. it gains more in sample than each of the model's own parameters not refitted (for the
-//!    slewing rig also the beam's length and the hub's radius), refitted alone in its place
-//!    ([`Rival`], [`Verdict::MatchedByMismatch`]): a wrong parameter is not a missing effect,
-//!    and one parameter that explains as much as an effect of one to three is the simpler
-//!    answer. (For a sensor scale, the parameters that scale its output alone are its exact
+//!    slewing rig also the beam's length and the hub's radius, and a linear spring at the hub
+//!    the model lacks), refitted alone in its place ([`Rival`], [`Verdict::MatchedByMismatch`]):
+//!    a wrong parameter is not a missing effect, and one parameter that explains as much as an
+//!    effect of one to three is the simpler answer. (For a sensor scale, the parameters that scale its output alone are its exact
 //!    equivalents and reported as such, not tried.)
 //!
 //! Sensor quantization is a measurement model, not a force: it is named when the raw readings

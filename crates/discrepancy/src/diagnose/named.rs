@@ -81,16 +81,20 @@ pub(super) struct Rivals<'a> {
 
 impl Rivals<'_> {
     pub(super) fn find(&self, data: &Measurement, gain: impl Fn(&FitOutcome) -> f64 + Sync) -> Vec<Rival> {
-        let tried: Vec<(String, (f64, f64))> = run::rival_parameters(self.reference, self.free)
+        let tried: Vec<run::RivalTrial> = run::rival_parameters(self.reference, self.free)
             .into_iter()
-            .filter(|(n, _)| !self.exclude.contains(n))
+            .filter(|t| !self.exclude.contains(&t.name))
             .collect();
         let mut found = tried
             .par_iter()
-            .filter_map(|(name, bounds)| {
-                let reference_value = self.reference.value(name).ok()?;
+            .filter_map(|t| {
+                let name = &t.name;
                 let mut from = self.reference.clone();
-                from.set_bounds(name, *bounds).ok()?;
+                if let Some(effect) = &t.adds {
+                    from.add_effect(effect.clone()).ok()?;
+                }
+                let reference_value = from.value(name).ok()?;
+                from.set_bounds(name, t.bounds).ok()?;
                 let free: Vec<String> = self.free.iter().chain([name]).cloned().collect();
                 let outcome = run::refit_to(&from, data, &free, None, 60, run::Precision::Optimum).ok()?;
                 let in_sample = gain(&outcome);
@@ -101,6 +105,7 @@ impl Rivals<'_> {
                     value: outcome.report.parameters[i],
                     std_error: outcome.report.std_error(i),
                     in_sample,
+                    added: t.adds.is_some(),
                 })
             })
             .collect::<Vec<_>>();

@@ -95,10 +95,10 @@ impl Diagnosis {
                 }
                 for r in &self.rivals {
                     out.push(format!(
-                        "a mismatch of `{}` explains these data as well: refitted alone in place of the effect it \
+                        "a mismatch of {} explains these data as well: refitted alone in place of the effect it \
                          moves from {:.5} to {:.5}{} and gains {:.1} nats (the effect {:.1}); one record of these \
                          outputs does not tell them apart, so check `{}` before adding the effect",
-                        r.name,
+                        r.described(),
                         r.reference_value,
                         r.value,
                         r.std_error.map_or(String::new(), |se| format!(" ± {se:.5}")),
@@ -133,9 +133,14 @@ impl Diagnosis {
                         self.mismatch_gain
                     ));
                 }
-                if let Some(best) = self.candidates.iter().find(|c| c.evidence.held_out.is_some()) {
+                // The effect a mismatch unseated, if one was; else the best predictor held out.
+                let unseated = self.candidates.iter().find(|c| c.verdict == Verdict::MatchedByMismatch);
+                if let Some(best) =
+                    unseated.or_else(|| self.candidates.iter().find(|c| c.evidence.held_out.is_some()))
+                {
                     out.push(format!(
-                        "the strongest candidate, {}, was {}",
+                        "{}, {}, was {}",
+                        if unseated.is_some() { "the candidate the evidence chose" } else { "the strongest candidate" },
                         best.label,
                         match &best.verdict {
                             Verdict::NotPredictive => "not predictive on held-out blocks".to_string(),
@@ -156,8 +161,8 @@ impl Diagnosis {
                                     .filter(|r| r.unseats(best.evidence.in_sample))
                                     .map(|r| {
                                         format!(
-                                            "`{}` {:.5} → {:.5}{} ({:.1} nats)",
-                                            r.name,
+                                            "{} {:.5} → {:.5}{} ({:.1} nats)",
+                                            r.described(),
                                             r.reference_value,
                                             r.value,
                                             r.std_error.map_or(String::new(), |se| format!(" ± {se:.5}")),
@@ -167,11 +172,12 @@ impl Diagnosis {
                                     .collect();
                                 let one = unseating.len() == 1;
                                 format!(
-                                    "predictive on held-out blocks ({:.1} nats in sample), but {} of the model's own \
-                                     parameters, {}refitted alone in its place, explain{} the data at least as well: \
+                                    "predictive on held-out blocks ({:.1} nats in sample), but {} parameter{}, {}refitted \
+                                     alone in its place, explain{} the data at least as well: \
                                      {}; check {} before adding the effect",
                                     best.evidence.in_sample,
                                     if one { "one".to_string() } else { unseating.len().to_string() },
+                                    if one { "" } else { "s" },
                                     if one { "" } else { "each " },
                                     if one { "s" } else { "" },
                                     unseating.join(", "),

@@ -418,21 +418,53 @@ pub fn determined(outcome: &FitOutcome, name: &str) -> bool {
     })
 }
 
+/// A parameter a named effect is tried against ([`rival_parameters`]): its name, the range it is
+/// refitted in, and the effect that carries it when the model has none yet.
+pub struct RivalTrial {
+    /// Parameter name.
+    pub name: String,
+    /// The range it is refitted in.
+    pub bounds: (f64, f64),
+    /// The effect added (at zero strength) to make the parameter exist, if the model lacks it.
+    pub adds: Option<ModelEffect>,
+}
+
 /// The model's own parameters, not refitted, that a named effect is tried against as a
 /// mismatch, with the ranges they are refitted in: the mismatch parameters the
 /// reference left fixed, and the file's geometry (for the slewing rig the beam's length and the
 /// hub's radius, ±10 %; for a structure its fixed parameters, ±30 %). A sensor scale's exact
 /// equivalents (`scale_equivalents_of`) are left out by the caller: they are reported as such.
-pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<(String, (f64, f64))> {
-    let named =
-        |ids: Vec<(ParamId, (f64, f64))>| ids.into_iter().map(|(id, b)| (id.name(), b)).collect::<Vec<_>>();
+///
+/// For the slewing rig also a linear spring at the hub (`hub_stiffness`, within ± the servo's
+/// own stiffness K_a K_p K_t / R, from zero) when the model has no stiffness effect: a restoring
+/// torque the model lacks — gravity on a tilted axis, cables, a centring spring — moves the
+/// servo's settling point and its closed-loop frequency as a low, damping-coupled mode can, with
+/// one parameter for the mode's three.
+pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
+    let named = |ids: Vec<(ParamId, (f64, f64))>| {
+        ids.into_iter()
+            .map(|(id, bounds)| RivalTrial { name: id.name(), bounds, adds: None })
+            .collect::<Vec<_>>()
+    };
     let all = match model {
         Model::Slewing(m) => {
             let geometry = [ParamId::Length, ParamId::HubRadius]
                 .into_iter()
                 .filter(|&id| m.get(id) > 0.0)
                 .map(|id| (id, around(m.get(id), 0.1)));
-            named(mismatch_ids(m).into_iter().chain(secondary_mismatch_ids(m)).chain(geometry).collect())
+            let mut all =
+                named(mismatch_ids(m).into_iter().chain(secondary_mismatch_ids(m)).chain(geometry).collect());
+            let has_spring = m.effects().iter().any(|e| e.kind() == plant::EffectKind::CubicStiffness);
+            let c = m.constants();
+            let servo = c.amplifier_gain * c.position_gain * c.torque_constant / c.armature_resistance;
+            if !has_spring && servo.is_finite() && servo > 0.0 {
+                all.push(RivalTrial {
+                    name: ParamId::HubStiffness.name(),
+                    bounds: (-servo, servo),
+                    adds: Some(plant::Effect::CubicStiffness { coefficient: 0.0, linear: Some(0.0) }.into()),
+                });
+            }
+            all
         }
         Model::Structure(m) => {
             let mut bounds = structure_fixed(m);
@@ -440,10 +472,10 @@ pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<(String, (f64
                 let v = m.value(&n).ok().filter(|v| *v != 0.0 && v.is_finite())?;
                 Some((n, around(v, 0.3)))
             }));
-            bounds
+            bounds.into_iter().map(|(name, bounds)| RivalTrial { name, bounds, adds: None }).collect()
         }
     };
-    all.into_iter().filter(|(n, _)| !refitted.contains(n)).collect()
+    all.into_iter().filter(|t| !refitted.contains(&t.name)).collect()
 }
 
 /// The range within `share` of `v` on either side, ordered for a negative `v` too.
