@@ -535,7 +535,7 @@ pub fn held_out(
 
 #[cfg(test)]
 mod tests {
-    use super::{Estimate, pole_z};
+    use super::{Estimate, Model, pole_z, rival_parameters};
 
     fn e(value: f64, std_error: f64) -> Estimate {
         Estimate { value, std_error: Some(std_error), on_bound: false }
@@ -561,5 +561,46 @@ mod tests {
         assert_eq!(pole_z(e(0.3, 0.001), bound), 0.0);
         assert_eq!(pole_z(e(0.3, 0.001), Estimate { std_error: None, ..e(0.2, 0.01) }), 0.0);
         assert_eq!(pole_z(e(0.3, 0.001), e(0.2, 0.0)), 0.0);
+    }
+
+    fn paper_model(edit: impl Fn(String) -> String) -> Model {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/slewing.ron");
+        let text = std::fs::read_to_string(path).unwrap();
+        Model::from_ron(&edit(text), "slewing.ron").unwrap()
+    }
+
+    /// The slewing rig's rivals include a linear spring at the hub, added at zero, within ± the
+    /// servo's stiffness K_a K_p K_t / R (the paper's file: 1.8204 · 8 · 0.05508 / 2 N·m/rad);
+    /// not when the model already has a stiffness effect, nor when the reference refits it.
+    #[test]
+    fn a_spring_at_the_hub_is_tried_where_the_model_has_none() {
+        let model = paper_model(|t| t);
+        let rivals = rival_parameters(&model, &["cv".to_string()]);
+        let spring = rivals.iter().find(|r| r.name == "hub_stiffness").expect("tried");
+        let servo = 1.8204 * 8.0 * 0.05508 / 2.0;
+        assert!(
+            (spring.bounds.0 + servo).abs() < 1e-12 && (spring.bounds.1 - servo).abs() < 1e-12,
+            "{:?}",
+            spring.bounds
+        );
+        assert!(spring.adds.is_some());
+        assert!(rivals.iter().filter(|r| r.name != "hub_stiffness").all(|r| r.adds.is_none()));
+        let mut with = model.clone();
+        with.add_effect(spring.adds.clone().unwrap()).unwrap();
+        assert_eq!(with.value("hub_stiffness").unwrap(), 0.0);
+        assert_eq!(with.value("cubic_stiffness").unwrap(), 0.0);
+        assert!(!rival_parameters(&with, &[]).iter().any(|r| r.name == "hub_stiffness"));
+        let cubic = paper_model(|t| {
+            t.replace(
+                "    free: [\"cv\"],",
+                "    effects: [CubicStiffness(coefficient: 1.0)],\n    free: [\"cv\"],",
+            )
+        });
+        assert!(!rival_parameters(&cubic, &[]).iter().any(|r| r.name == "hub_stiffness"));
+        assert!(
+            !rival_parameters(&model, &["hub_stiffness".to_string()])
+                .iter()
+                .any(|r| r.name == "hub_stiffness")
+        );
     }
 }
