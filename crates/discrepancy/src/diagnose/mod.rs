@@ -33,6 +33,7 @@
 mod answer;
 pub mod catalog;
 pub mod evidence;
+mod mismatch;
 mod named;
 mod quantized;
 mod report;
@@ -176,15 +177,15 @@ pub fn diagnose_observed(
     observer.progress("baseline", 1, 2);
     // The reference every candidate is scored against: the baseline with the model's own
     // linear parameters free too, so that a mismatch is absorbed before any effect is tried.
-    let mismatch = run::mismatch_parameters(model, &options.free);
-    let from = run::with_mismatch_bounds(baseline.outcome.fitted.clone());
+    let mismatch = mismatch::mismatch_parameters(model, &options.free);
+    let from = mismatch::with_mismatch_bounds(baseline.outcome.fitted.clone());
     let all_free: Vec<String> = options.free.iter().chain(&mismatch).cloned().collect();
     let trial_reference = Fitted::full(&from, &data, &all_free, 100)?;
     // The mismatch parameters the data determine stay free; the others keep the model file's
     // values (a flat direction, or one run to its bound, only misleads every refit after it),
     // and the reference is refitted with the determined ones from the baseline.
     let mut mismatch: Vec<String> =
-        mismatch.into_iter().filter(|name| run::determined(&trial_reference.outcome, name)).collect();
+        mismatch.into_iter().filter(|name| mismatch::determined(&trial_reference.outcome, name)).collect();
     let mut reference_free: Vec<String> = options.free.iter().chain(&mismatch).cloned().collect();
     let mut reference = if reference_free.len() == all_free.len() {
         trial_reference
@@ -194,11 +195,11 @@ pub fn diagnose_observed(
     // The secondary ones join one at a time, only where the data determine them and they leave
     // the others determined (a mass per length freed beside two inertias can make all three
     // undetermined, and then none would absorb an inertia mismatch).
-    for name in run::secondary_mismatch_parameters(model, &options.free) {
+    for name in mismatch::secondary_mismatch_parameters(model, &options.free) {
         let mut free = reference_free.clone();
         free.push(name.clone());
         if let Ok(fit) = Fitted::full(&from, &data, &free, 100)
-            && mismatch.iter().chain([&name]).all(|n| run::determined(&fit.outcome, n))
+            && mismatch.iter().chain([&name]).all(|n| mismatch::determined(&fit.outcome, n))
             && last_error(&fit.outcome) <= last_error(&reference.outcome)
         {
             reference = fit;

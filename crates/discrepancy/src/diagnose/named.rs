@@ -4,7 +4,7 @@
 
 use super::answer::last_error;
 use super::catalog::Trial;
-use super::{Candidate, Rival, Verdict, run};
+use super::{Candidate, Rival, Verdict, mismatch, run};
 use mem::Measurement;
 use models::FitOutcome;
 use models::Model;
@@ -60,7 +60,7 @@ pub(super) fn scale_equivalents_of(
 }
 
 /// The search for [`Rival`]s of a named effect: each of the model's own parameters the
-/// reference did not refit ([`run::rival_parameters`]) is refitted alone beside the reference's,
+/// reference did not refit ([`mismatch::rival_parameters`]) is refitted alone beside the reference's,
 /// from the reference, in its range, to the fitter's own convergence
 /// ([`run::Precision::Optimum`]); those whose gain reaches `to_match` (the effect's in-sample
 /// gain less the held-out threshold) and that the data determine inside their range explain the
@@ -81,7 +81,7 @@ pub(super) struct Rivals<'a> {
 
 impl Rivals<'_> {
     pub(super) fn find(&self, data: &Measurement, gain: impl Fn(&FitOutcome) -> f64 + Sync) -> Vec<Rival> {
-        let tried: Vec<run::RivalTrial> = run::rival_parameters(self.reference, self.free)
+        let tried: Vec<mismatch::RivalTrial> = mismatch::rival_parameters(self.reference, self.free)
             .into_iter()
             .filter(|t| !self.exclude.contains(&t.name))
             .collect();
@@ -99,7 +99,7 @@ impl Rivals<'_> {
                 let outcome = run::refit_to(&from, data, &free, None, 60, run::Precision::Optimum).ok()?;
                 let in_sample = gain(&outcome);
                 let i = outcome.report.names.iter().position(|n| n == name)?;
-                (in_sample >= self.to_match && run::determined(&outcome, name)).then(|| Rival {
+                (in_sample >= self.to_match && mismatch::determined(&outcome, name)).then(|| Rival {
                     name: name.clone(),
                     reference_value,
                     value: outcome.report.parameters[i],

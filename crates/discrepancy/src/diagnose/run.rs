@@ -10,7 +10,6 @@ use faer::Mat;
 use faer::linalg::solvers::Solve;
 use mem::Measurement;
 use models::{FitOutcome, FitRequest, Model, ModelEffect};
-use plant::{ParamId, SlewingModel};
 
 /// A refit stops when its next step would lower ‖Y_error‖² by less than this fraction: the
 /// log-likelihood is then within a hundredth of a nat of its optimum per thousand residuals.
@@ -338,167 +337,6 @@ pub fn whiteness(outcome: &FitOutcome) -> f64 {
         .fold(1.0, f64::min)
 }
 
-/// The model's own linear parameters a mismatch would live in, that the user did not free:
-/// the modal damping of every flexible mode, the hub and motor inertias and the beam's
-/// stiffness (the mass per length is tried after them, [`secondary_mismatch_parameters`]).
-///
-/// For a structure: the parameters its file marks free that the user did not.
-pub fn mismatch_parameters(model: &Model, free: &[String]) -> Vec<String> {
-    let names: Vec<String> = match model {
-        Model::Slewing(m) => mismatch_ids(m).into_iter().map(|(id, _)| id.name()).collect(),
-        Model::Structure(m) => m.free(),
-    };
-    names.into_iter().filter(|n| !free.contains(n)).collect()
-}
-
-/// The mismatch parameters with the range a mismatch is looked for in: a fifth to five times a
-/// modal damping, half to twice the hub and motor inertias, ±30 % of the beam's stiffness
-/// (wider ranges only let a refit wander into stiff, slow and implausible models).
-fn mismatch_ids(model: &SlewingModel) -> Vec<(ParamId, (f64, f64))> {
-    let around = |id: ParamId, low: f64, high: f64| {
-        let v = model.get(id);
-        (id, if v > 0.0 { (low * v, high * v) } else { (0.0, 1.0) })
-    };
-    (1..=model.n_modes())
-        .map(|i| around(ParamId::ModalDamping(i), 0.2, 5.0))
-        .chain([
-            around(ParamId::HubInertia, 0.5, 2.0),
-            around(ParamId::MotorInertia, 0.5, 2.0),
-            around(ParamId::EiOverRho, 0.7, 1.3),
-        ])
-        .collect()
-}
-
-/// Mismatch parameters tried one at a time after the others, each kept only when the data
-/// determine it without unsettling those: the beam's mass per length (±30 %), which trades
-/// off against the hub and motor inertias in the rigid-body inertia.
-fn secondary_mismatch_ids(model: &SlewingModel) -> Vec<(ParamId, (f64, f64))> {
-    let v = model.get(ParamId::MassPerLength);
-    if v > 0.0 { vec![(ParamId::MassPerLength, (0.7 * v, 1.3 * v))] } else { Vec::new() }
-}
-
-/// The names of [`secondary_mismatch_ids`] the user did not free.
-pub fn secondary_mismatch_parameters(model: &Model, free: &[String]) -> Vec<String> {
-    match model {
-        Model::Slewing(m) => secondary_mismatch_ids(m)
-            .into_iter()
-            .map(|(id, _)| id.name())
-            .filter(|n| !free.contains(n))
-            .collect(),
-        Model::Structure(m) => {
-            structure_fixed(m).into_iter().map(|(n, _)| n).filter(|n| !free.contains(n)).collect()
-        }
-    }
-}
-
-/// A structure file's fixed, nonzero parameters with ±30 % ranges: for a structure, the
-/// secondary mismatch parameters are what its file fixes (masses, say), freed one at a time
-/// and kept only where the data determine them.
-fn structure_fixed(model: &structure::StructureModel) -> Vec<(String, (f64, f64))> {
-    let free = model.free();
-    let effects: Vec<String> =
-        model.effects().iter().flat_map(|e| e.parameters(&model.output_names())).map(|(n, _)| n).collect();
-    model
-        .parameter_names()
-        .into_iter()
-        .filter(|n| !free.contains(n) && !effects.contains(n))
-        .filter_map(|n| {
-            let v = model.value(&n).ok()?;
-            (v != 0.0 && v.is_finite()).then_some((n, around(v, 0.3)))
-        })
-        .collect()
-}
-
-/// Whether a fit determines parameter `name`: a standard error below half its value's size,
-/// and not at a bound.
-pub fn determined(outcome: &FitOutcome, name: &str) -> bool {
-    let r = &outcome.report;
-    r.names.iter().position(|n| n == name).is_some_and(|i| {
-        r.on_bound[i].is_none() && r.std_error(i).is_some_and(|se| se < 0.5 * r.parameters[i].abs())
-    })
-}
-
-/// A parameter a named effect is tried against ([`rival_parameters`]): its name, the range it is
-/// refitted in, and the effect that carries it when the model has none yet.
-pub struct RivalTrial {
-    /// Parameter name.
-    pub name: String,
-    /// The range it is refitted in.
-    pub bounds: (f64, f64),
-    /// The effect added (at zero strength) to make the parameter exist, if the model lacks it.
-    pub adds: Option<ModelEffect>,
-}
-
-/// The model's own parameters, not refitted, that a named effect is tried against as a
-/// mismatch, with the ranges they are refitted in: the mismatch parameters the
-/// reference left fixed, and the file's geometry (for the slewing rig the beam's length and the
-/// hub's radius, ±10 %; for a structure its fixed parameters, ±30 %). A sensor scale's exact
-/// equivalents (`scale_equivalents_of`) are left out by the caller: they are reported as such.
-///
-/// For the slewing rig also a linear spring at the hub (`hub_stiffness`, within ± the servo's
-/// own stiffness K_a K_p K_t / R, from zero) when the model has no stiffness effect: a restoring
-/// torque the model lacks — gravity on a tilted axis, cables, a centring spring — moves the
-/// servo's settling point and its closed-loop frequency as a low, damping-coupled mode can, with
-/// one parameter for the mode's three.
-pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
-    let named = |ids: Vec<(ParamId, (f64, f64))>| {
-        ids.into_iter()
-            .map(|(id, bounds)| RivalTrial { name: id.name(), bounds, adds: None })
-            .collect::<Vec<_>>()
-    };
-    let all = match model {
-        Model::Slewing(m) => {
-            let geometry = [ParamId::Length, ParamId::HubRadius]
-                .into_iter()
-                .filter(|&id| m.get(id) > 0.0)
-                .map(|id| (id, around(m.get(id), 0.1)));
-            let mut all =
-                named(mismatch_ids(m).into_iter().chain(secondary_mismatch_ids(m)).chain(geometry).collect());
-            let has_spring = m.effects().iter().any(|e| e.kind() == plant::EffectKind::CubicStiffness);
-            let c = m.constants();
-            let servo = c.amplifier_gain * c.position_gain * c.torque_constant / c.armature_resistance;
-            if !has_spring && servo.is_finite() && servo > 0.0 {
-                all.push(RivalTrial {
-                    name: ParamId::HubStiffness.name(),
-                    bounds: (-servo, servo),
-                    adds: Some(plant::Effect::CubicStiffness { coefficient: 0.0, linear: Some(0.0) }.into()),
-                });
-            }
-            all
-        }
-        Model::Structure(m) => {
-            let mut bounds = structure_fixed(m);
-            bounds.extend(m.free().into_iter().filter_map(|n| {
-                let v = m.value(&n).ok().filter(|v| *v != 0.0 && v.is_finite())?;
-                Some((n, around(v, 0.3)))
-            }));
-            bounds.into_iter().map(|(name, bounds)| RivalTrial { name, bounds, adds: None }).collect()
-        }
-    };
-    all.into_iter().filter(|t| !refitted.contains(&t.name)).collect()
-}
-
-/// The range within `share` of `v` on either side, ordered for a negative `v` too.
-fn around(v: f64, share: f64) -> (f64, f64) {
-    let (a, b) = ((1.0 - share) * v, (1.0 + share) * v);
-    (a.min(b), a.max(b))
-}
-
-/// `model` with the mismatch parameters' ranges.
-pub fn with_mismatch_bounds(mut model: Model) -> Model {
-    if let Some(m) = model.as_slewing_mut() {
-        for (id, b) in mismatch_ids(m).into_iter().chain(secondary_mismatch_ids(m)) {
-            m.set_bounds(id, b);
-        }
-    }
-    let fixed = model.as_structure().map(structure_fixed).unwrap_or_default();
-    for (name, b) in fixed {
-        // Inside its own range by construction.
-        let _ = model.set_bounds(&name, b);
-    }
-    model
-}
-
 /// What a held-out refit starts from.
 pub enum HeldOut<'a> {
     /// The reference model.
@@ -535,7 +373,7 @@ pub fn held_out(
 
 #[cfg(test)]
 mod tests {
-    use super::{Estimate, Model, pole_z, rival_parameters};
+    use super::{Estimate, pole_z};
 
     fn e(value: f64, std_error: f64) -> Estimate {
         Estimate { value, std_error: Some(std_error), on_bound: false }
@@ -561,46 +399,5 @@ mod tests {
         assert_eq!(pole_z(e(0.3, 0.001), bound), 0.0);
         assert_eq!(pole_z(e(0.3, 0.001), Estimate { std_error: None, ..e(0.2, 0.01) }), 0.0);
         assert_eq!(pole_z(e(0.3, 0.001), e(0.2, 0.0)), 0.0);
-    }
-
-    fn paper_model(edit: impl Fn(String) -> String) -> Model {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/slewing.ron");
-        let text = std::fs::read_to_string(path).unwrap();
-        Model::from_ron(&edit(text), "slewing.ron").unwrap()
-    }
-
-    /// The slewing rig's rivals include a linear spring at the hub, added at zero, within ± the
-    /// servo's stiffness K_a K_p K_t / R (the paper's file: 1.8204 · 8 · 0.05508 / 2 N·m/rad);
-    /// not when the model already has a stiffness effect, nor when the reference refits it.
-    #[test]
-    fn a_spring_at_the_hub_is_tried_where_the_model_has_none() {
-        let model = paper_model(|t| t);
-        let rivals = rival_parameters(&model, &["cv".to_string()]);
-        let spring = rivals.iter().find(|r| r.name == "hub_stiffness").expect("tried");
-        let servo = 1.8204 * 8.0 * 0.05508 / 2.0;
-        assert!(
-            (spring.bounds.0 + servo).abs() < 1e-12 && (spring.bounds.1 - servo).abs() < 1e-12,
-            "{:?}",
-            spring.bounds
-        );
-        assert!(spring.adds.is_some());
-        assert!(rivals.iter().filter(|r| r.name != "hub_stiffness").all(|r| r.adds.is_none()));
-        let mut with = model.clone();
-        with.add_effect(spring.adds.clone().unwrap()).unwrap();
-        assert_eq!(with.value("hub_stiffness").unwrap(), 0.0);
-        assert_eq!(with.value("cubic_stiffness").unwrap(), 0.0);
-        assert!(!rival_parameters(&with, &[]).iter().any(|r| r.name == "hub_stiffness"));
-        let cubic = paper_model(|t| {
-            t.replace(
-                "    free: [\"cv\"],",
-                "    effects: [CubicStiffness(coefficient: 1.0)],\n    free: [\"cv\"],",
-            )
-        });
-        assert!(!rival_parameters(&cubic, &[]).iter().any(|r| r.name == "hub_stiffness"));
-        assert!(
-            !rival_parameters(&model, &["hub_stiffness".to_string()])
-                .iter()
-                .any(|r| r.name == "hub_stiffness")
-        );
     }
 }
