@@ -50,9 +50,7 @@ impl Rival {
             format!("`{}`", self.name)
         }
     }
-}
 
-impl Rival {
     /// Whether this mismatch explains the data at least as well as an effect of in-sample gain
     /// `effect_in_sample` (with no more parameters): then the effect is not named
     /// ([`Verdict::MatchedByMismatch`]).

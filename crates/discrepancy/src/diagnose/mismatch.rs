@@ -123,8 +123,7 @@ pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
             let mut all =
                 named(mismatch_ids(m).into_iter().chain(secondary_mismatch_ids(m)).chain(geometry).collect());
             let has_spring = m.effects().iter().any(|e| e.kind() == plant::EffectKind::CubicStiffness);
-            let c = m.constants();
-            let servo = c.amplifier_gain * c.position_gain * c.torque_constant / c.armature_resistance;
+            let servo = plant::assemble::servo_stiffness(m.constants());
             if !has_spring && servo.is_finite() && servo > 0.0 {
                 all.push(RivalTrial {
                     name: ParamId::HubStiffness.name(),

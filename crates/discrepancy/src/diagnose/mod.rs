@@ -23,8 +23,8 @@
 //!    slewing rig also the beam's length and the hub's radius, and a linear spring at the hub
 //!    the model lacks), refitted alone in its place ([`Rival`], [`Verdict::MatchedByMismatch`]):
 //!    a wrong parameter is not a missing effect, and one parameter that explains as much as an
-//!    effect of one to three is the simpler answer. (For a sensor scale, the parameters that scale its output alone are its exact
-//!    equivalents and reported as such, not tried.)
+//!    effect of one to three is the simpler answer. (For a sensor scale, the parameters that
+//!    scale its output alone are its exact equivalents and reported as such, not tried.)
 //!
 //! Sensor quantization is a measurement model, not a force: it is named when the raw readings
 //! of a sensor lie on a lattice while the signal moves, with a step comparable to the noise or

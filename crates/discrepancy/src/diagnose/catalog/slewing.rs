@@ -24,7 +24,7 @@ struct Scales {
 fn scales(model: &SlewingModel) -> Scales {
     let c = model.constants();
     let theta0 = model.initial_state()[0].abs().max(1e-3);
-    let servo_stiffness = c.amplifier_gain * c.position_gain * c.torque_constant / c.armature_resistance;
+    let servo_stiffness = plant::assemble::servo_stiffness(c);
     let omega = model
         .modal()
         .ok()
