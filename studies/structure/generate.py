@@ -17,9 +17,11 @@ Families (as studies/diagnose, so that its score.py scores them):
   B  nulls: white or AR(1) noise (rho up to 0.9), and mismatches the free parameters cannot absorb
      (modal instead of Rayleigh damping, floor 2's mass 15 % off)
   C  physics outside the catalog: a storey stiffness degrading during the record, and pounding of
-     the roof against a stop (a one-sided spring)
+     the roof against a stop (a one-sided spring); with --more-c also a one-sided Hertzian contact
+     (f = k d^1.5) and a one-sided linear stop at a random floor and side, the stop's force at the
+     penetration the linear decay would reach 0.1 / 0.3 / 1 x k_jj q_peak (weak / medium / strong)
 
-usage:  python3 studies/structure/generate.py --out DIR --set dev|held
+usage:  python3 studies/structure/generate.py --out DIR --set dev|held [--seed N] [--more-c]
 """
 import argparse
 import json
@@ -180,7 +182,16 @@ def case_c(rng, kind, strength):
     s = LEVELS[strength]
     M, K, D = matrices(rng)
     qpk, vpk = peaks(M, K, D)
-    if kind == "degrading":
+    if kind in ("contact", "stop"):  # one-sided, at any floor, on either side (--more-c only)
+        j, side = int(rng.integers(0, 3)), float(rng.choice([-1.0, 1.0]))
+        gap = rng.uniform(0.5, 0.8) * qpk[j]
+        reach = qpk[j] - gap  # the penetration the linear decay would reach
+        peak_force = [0.1, 0.3, 1.0][s] * K[j, j] * qpk[j]  # the stop's force at that penetration
+        law = 1.5 if kind == "contact" else 1.0  # Hertzian or linear
+        kc = peak_force / reach ** law
+        force = lambda q, v, t: -np.eye(3)[j] * side * kc * max(side * q[j] - gap, 0.0) ** law
+        truth = dict(kind=f"one_sided_{kind}", coordinate=f"q{j + 1}", side=side, gap=gap, k=kc, law=law)
+    elif kind == "degrading":
         loss = [0.02, 0.05, 0.1][s]  # storey 1 loses this share of its stiffness over the record
         k1 = K[0, 0] + K[0, 1]  # the storey-1 spring (K[0,1] = -k2)
         force = lambda q, v, t: np.array([loss * k1 * t / 10.0 * q[0], 0.0, 0.0])
@@ -202,8 +213,12 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--out", required=True)
     ap.add_argument("--set", choices=["dev", "held"], default="dev")
+    ap.add_argument("--seed", type=int, default=None, help="a fresh draw (default: the set's own seed)")
+    ap.add_argument("--more-c", action="store_true",
+                    help="append family-C forms absent from dev and held: a one-sided Hertzian contact and "
+                         "a one-sided linear stop at a random floor and side (12 cases)")
     opt = ap.parse_args()
-    rng = np.random.default_rng(20261123 if opt.set == "dev" else 20261124)
+    rng = np.random.default_rng(opt.seed if opt.seed is not None else (20261123 if opt.set == "dev" else 20261124))
     os.makedirs(os.path.join(opt.out, "data"), exist_ok=True)
     here = os.path.dirname(os.path.abspath(__file__))
     shutil.copy(os.path.join(here, "..", "..", "fixtures", "shear_building.ron"), os.path.join(opt.out, "shear_building.ron"))
@@ -227,6 +242,11 @@ def main():
         y, truth = case_b(rng, kind)
         write(f"B_{kind}_{len(cases)}", y, "B", "none", ["none"], "-", truth)
     for kind in ["degrading", "pounding"]:
+        for strength in LEVELS:
+            for seed in range(2):
+                y, truth = case_c(rng, kind, strength)
+                write(f"C_{kind}_{strength}_s{seed}", y, "C", "none", ["none"], strength, truth)
+    for kind in ["contact", "stop"] if opt.more_c else []:
         for strength in LEVELS:
             for seed in range(2):
                 y, truth = case_c(rng, kind, strength)

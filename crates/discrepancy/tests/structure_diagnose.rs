@@ -6,7 +6,7 @@
 //! refitted in every candidate. These records were used in development; the held-out study is
 //! `studies/structure` (docs/diagnose.md).
 
-use discrepancy::{DiagnoseOptions, diagnose};
+use discrepancy::{DiagnoseOptions, Verdict, diagnose};
 use models::Model;
 
 fn run(case: &str) -> discrepancy::Diagnosis {
@@ -36,7 +36,28 @@ fn nothing_hidden_is_none_in_white_and_coloured_noise() {
 
 #[test]
 fn a_hardening_storey_spring_is_a_cubic_spring_at_its_floor() {
-    assert_eq!(named("cubic_q1"), "cubic_stiffness(q1)");
+    let d = run("cubic_q1");
+    assert_eq!(d.named().map(|c| c.label.as_str()), Some("cubic_stiffness(q1)"), "{:?}", d.answer());
+    // The truth's spring (k₃q³ + k₅q⁵) is symmetric: the asymmetric part tried beside it is not
+    // demanded.
+    let a = d.asymmetry.as_ref().expect("a named cubic is tested for asymmetry");
+    assert_eq!(a.parameter.name, "quadratic_q1");
+    assert!(!a.demanded, "{a:?}");
+}
+
+/// The roof meets a Hertzian stop on one side (f = 9e7 (q3 − 0.0195)^1.5 while q3 > 0.0195 m,
+/// outside the catalog): a symmetric cubic at the roof predicts held out, but the data demand
+/// an asymmetric part beside it, stiffer on the side of the stop (k₂ > 0), so nothing is named.
+#[test]
+fn a_one_sided_stop_is_not_named_a_symmetric_spring() {
+    let d = run("contact_q3");
+    assert!(d.named().is_none(), "{:?}", d.answer());
+    let c = d.candidates.iter().find(|c| c.verdict == Verdict::Asymmetric).expect("an asymmetric spring");
+    assert_eq!(c.label, "cubic_stiffness(q3)");
+    let a = d.asymmetry.as_ref().expect("tested");
+    let se = a.parameter.std_error.expect("determined");
+    assert!(a.demanded && a.parameter.value > 5.0 * se && a.gain > 10.0, "{a:?}");
+    assert!(d.answer().iter().any(|s| s.contains("stiffer on one side")), "{:?}", d.answer());
 }
 
 #[test]

@@ -59,6 +59,22 @@ impl Rival {
     }
 }
 
+/// A named symmetric spring's asymmetric part (a structure's `cubic_stiffness` at coordinate c:
+/// k₂q_c², `quadratic_<c>`), refitted beside it from its fit. When the data demand it — it gains
+/// at least the held-out threshold in sample and is determined inside its range — the restoring
+/// force is stiffer on one side than the other (a stop, a contact, a gap that closes one way):
+/// physics the catalog's symmetric spring does not hold, so nothing is named
+/// ([`Verdict::Asymmetric`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct Asymmetry {
+    /// k₂ as refitted beside the spring.
+    pub parameter: EffectParameter,
+    /// In-sample gain of adding it (nats), over the symmetric spring's fit.
+    pub gain: f64,
+    /// Whether the data demand it (then the spring is [`Verdict::Asymmetric`]).
+    pub demanded: bool,
+}
+
 /// The evidence for one candidate, every figure a difference of the same log-likelihood
 /// ([`super::evidence`]) to the reference's (the baseline with the model's own parameters free).
 #[derive(Clone, Debug, Default, Serialize)]
@@ -116,6 +132,9 @@ pub enum Verdict {
     /// ([`Rival`]): one wrong parameter is the simpler answer than a missing effect, so nothing
     /// is named.
     MatchedByMismatch,
+    /// A symmetric spring whose data demand an asymmetric part beside it ([`Asymmetry`]): the
+    /// missing restoring force is one-sided, outside the catalog, so nothing is named.
+    Asymmetric,
     /// A lattice that is not there, or a step far below the noise.
     NoLattice,
     /// The refit failed (the message says why).
@@ -181,6 +200,9 @@ pub struct Diagnosis {
     /// For a named effect, or the one they unseated: the model's parameters that, refitted
     /// alone instead, explain the data as well ([`Rival`]).
     pub rivals: Vec<Rival>,
+    /// For a named (or unseated) structure `cubic_stiffness`: its asymmetric part refitted
+    /// beside it ([`Asymmetry`]).
+    pub asymmetry: Option<Asymmetry>,
 }
 
 impl Diagnosis {

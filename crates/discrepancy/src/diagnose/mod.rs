@@ -25,6 +25,11 @@
 //!    a wrong parameter is not a missing effect, and one parameter that explains as much as an
 //!    effect of one to three is the simpler answer. (For a sensor scale, the parameters that
 //!    scale its output alone are its exact equivalents and reported as such, not tried.)
+//! 8. a symmetric spring (a structure's `cubic_stiffness` at coordinate c) is not demanded to
+//!    be asymmetric: refitted with k₂q_c² beside its k₃q_c³, the asymmetric part gains less than
+//!    the threshold in sample or is not determined ([`Asymmetry`], [`Verdict::Asymmetric`]). A
+//!    stop, a contact or a gap on one side is stiffer one way than the other — physics outside
+//!    the catalog that a symmetric cubic would otherwise stand in for.
 //!
 //! Sensor quantization is a measurement model, not a force: it is named when the raw readings
 //! of a sensor lie on a lattice while the signal moves, with a step comparable to the noise or
@@ -40,7 +45,7 @@ mod report;
 mod residual;
 mod run;
 
-pub use answer::{Candidate, Diagnosis, EffectParameter, Evidence, Rival, Verdict};
+pub use answer::{Asymmetry, Candidate, Diagnosis, EffectParameter, Evidence, Rival, Verdict};
 pub use report::DiagnosisReport;
 
 pub use residual::{Band, ResidualStructure};
@@ -376,6 +381,7 @@ pub fn diagnose_observed(
     // set against a mismatch.
     let mut scale_equivalents = Vec::new();
     let mut rivals = Vec::new();
+    let mut asymmetry = None;
     let chosen = (|| {
         let i = choose(&candidates, options.threshold)?;
         candidates[i].verdict = Verdict::Named;
@@ -396,6 +402,20 @@ pub fn diagnose_observed(
         rivals = search.find(&data, |o| evidence::gain(&likelihoods(o), &reference_likelihoods));
         if rivals.iter().any(|r| r.unseats(candidates[i].evidence.in_sample)) {
             candidates[i].verdict = Verdict::MatchedByMismatch;
+            return None;
+        }
+        // A symmetric spring whose data demand an asymmetric part: a one-sided force.
+        asymmetry = named::asymmetry(
+            &candidates[i],
+            trial,
+            &reference.outcome.fitted,
+            &reference_free,
+            &data,
+            options.threshold,
+            |o| evidence::gain(&likelihoods(o), &reference_likelihoods),
+        );
+        if asymmetry.as_ref().is_some_and(|a| a.demanded) {
+            candidates[i].verdict = Verdict::Asymmetric;
             return None;
         }
         Some(i)
@@ -429,6 +449,7 @@ pub fn diagnose_observed(
         threshold: options.threshold,
         scale_equivalents,
         rivals,
+        asymmetry,
     })
 }
 

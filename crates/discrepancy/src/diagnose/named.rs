@@ -2,9 +2,10 @@
 //! named effect determines ([`polish`]), the model parameters a named sensor scale cannot be
 //! told from ([`scale_equivalents_of`]), and those that explain the data as well ([`Rivals`]).
 
+use super::answer::Asymmetry;
 use super::answer::last_error;
 use super::catalog::Trial;
-use super::{Candidate, Rival, Verdict, mismatch, run};
+use super::{Candidate, EffectParameter, Rival, Verdict, mismatch, run};
 use mem::Measurement;
 use models::FitOutcome;
 use models::Model;
@@ -163,5 +164,56 @@ pub(super) fn choose(candidates: &[Candidate], threshold: f64) -> Option<usize> 
             .filter(|(_, c)| best - held_out(c) < threshold)
             .min_by(|(_, a), (_, b)| a.evidence.delta_bic.total_cmp(&b.evidence.delta_bic))
             .map(|(i, _)| i)
+    })
+}
+
+/// The asymmetry test of a named structure `cubic_stiffness` at coordinate c ([`Asymmetry`]):
+/// from the candidate's fit, the spring is refitted with its asymmetric part k₂q_c² added at zero
+/// and freed (within the range of [`mismatch::asymmetric_springs`]), and without it, both to the
+/// fitter's own convergence — the asymmetric refit from the symmetric one's optimum; the gain is
+/// the difference of their in-sample log-likelihoods (`gain`, each over the reference). `None` for any other candidate, or when a refit fails.
+pub(super) fn asymmetry(
+    candidate: &Candidate,
+    trial: &Trial,
+    reference: &Model,
+    free: &[String],
+    data: &Measurement,
+    threshold: f64,
+    gain: impl Fn(&FitOutcome) -> f64 + Sync,
+) -> Option<Asymmetry> {
+    let models::ModelEffect::Structure(structure::Effect::CubicStiffness {
+        coordinate, quadratic: None, ..
+    }) = &trial.effect
+    else {
+        return None;
+    };
+    let fitted = candidate.model.as_ref()?;
+    let spring = mismatch::asymmetric_springs(reference.as_structure()?)
+        .into_iter()
+        .find(|t| t.name == format!("quadratic_{coordinate}"))?;
+    let mut from = reference.clone();
+    from.add_effect(spring.adds.clone()?).ok()?;
+    for name in fitted.parameter_names() {
+        from.set(&name, fitted.value(&name).ok()?).ok()?;
+    }
+    for (name, bounds) in &trial.bounds {
+        from.set_bounds(name, *bounds).ok()?;
+    }
+    from.set_bounds(&spring.name, spring.bounds).ok()?;
+    let symmetric: Vec<String> = free.iter().chain(&trial.freed).cloned().collect();
+    let asymmetric: Vec<String> = symmetric.iter().chain([&spring.name]).cloned().collect();
+    // The asymmetric refit starts where the symmetric one ends: it can only gain.
+    let without = run::refit_to(&from, data, &symmetric, None, 60, run::Precision::Optimum).ok()?;
+    let with = run::refit_to(&without.fitted, data, &asymmetric, None, 60, run::Precision::Optimum).ok()?;
+    let i = with.report.names.iter().position(|n| *n == spring.name)?;
+    let added = gain(&with) - gain(&without);
+    Some(Asymmetry {
+        parameter: EffectParameter {
+            name: spring.name.clone(),
+            value: with.report.parameters[i],
+            std_error: with.report.std_error(i),
+        },
+        gain: added,
+        demanded: added >= threshold && mismatch::determined(&with, &spring.name),
     })
 }

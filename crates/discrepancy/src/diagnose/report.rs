@@ -40,6 +40,9 @@ pub struct DiagnosisReport<'a> {
     /// ([`Verdict::MatchedByMismatch`]), those that explain them at least as well (empty
     /// otherwise).
     pub rival_mismatches: &'a [super::Rival],
+    /// For a named (or unseated) structure `cubic_stiffness`: its asymmetric part k₂q² refitted
+    /// beside it, and whether the data demand it ([`Verdict::Asymmetric`]); absent otherwise.
+    pub asymmetric_spring: Option<&'a super::Asymmetry>,
 }
 
 impl Diagnosis {
@@ -134,7 +137,10 @@ impl Diagnosis {
                     ));
                 }
                 // The effect a mismatch unseated, if one was; else the best predictor held out.
-                let unseated = self.candidates.iter().find(|c| c.verdict == Verdict::MatchedByMismatch);
+                let unseated = self
+                    .candidates
+                    .iter()
+                    .find(|c| matches!(c.verdict, Verdict::MatchedByMismatch | Verdict::Asymmetric));
                 if let Some(best) =
                     unseated.or_else(|| self.candidates.iter().find(|c| c.evidence.held_out.is_some()))
                 {
@@ -184,6 +190,20 @@ impl Diagnosis {
                                     if one { "it" } else { "them" }
                                 )
                             }
+                            Verdict::Asymmetric => match &self.asymmetry {
+                                Some(a) => format!(
+                                    "predictive on held-out blocks ({:.1} nats in sample), but the restoring force \
+                                     is stiffer on one side than the other: its asymmetric part `{}` = {:.4e}{} adds \
+                                     {:.1} nats beside it — a stop, a contact or a gap that closes one way, which \
+                                     the catalog's symmetric spring does not hold",
+                                    best.evidence.in_sample,
+                                    a.parameter.name,
+                                    a.parameter.value,
+                                    a.parameter.std_error.map_or(String::new(), |se| format!(" ± {se:.2e}")),
+                                    a.gain
+                                ),
+                                None => "asymmetric".to_string(),
+                            },
                             other => format!("{other:?}"),
                         }
                     ));
@@ -212,6 +232,7 @@ impl Diagnosis {
             localisation: &self.localisation,
             equivalent_parameters: &self.scale_equivalents,
             rival_mismatches: &self.rivals,
+            asymmetric_spring: self.asymmetry.as_ref(),
         }
     }
 }

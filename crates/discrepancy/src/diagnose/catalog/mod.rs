@@ -3,7 +3,7 @@
 //! the slewing rig (`slewing.rs`) and for any structure (`structure.rs`).
 
 mod slewing;
-mod structure;
+pub(super) mod structure;
 
 use crate::localise::Localisation;
 use models::{Model, ModelEffect};

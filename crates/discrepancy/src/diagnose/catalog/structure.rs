@@ -53,6 +53,45 @@ fn peaks(model: &StructureModel) -> Option<Vec<(f64, f64)>> {
     peak.iter().all(|(q, v)| q.is_finite() && v.is_finite()).then_some(peak)
 }
 
+/// A coordinate's scales, from the model alone: its peak displacement q̂ and rate v̂ in the
+/// model's own free decay, its diagonal stiffness k_jj, and the viscous force at the peak rate
+/// (at least that of 1 % critical damping).
+pub(in crate::diagnose) struct Scales {
+    /// The coordinate's name.
+    pub coordinate: String,
+    /// q̂.
+    pub q: f64,
+    /// v̂.
+    pub v: f64,
+    /// k_jj.
+    pub k: f64,
+    /// The viscous force at v̂.
+    pub viscous: f64,
+}
+
+/// [`Scales`] of every coordinate of a second-order model where they are all positive (none for
+/// a first-order model).
+pub(in crate::diagnose) fn scales(model: &StructureModel) -> Vec<Scales> {
+    let matrices = model.second_order::<f64>(&model.values()).ok().flatten();
+    let Some((so, peaks)) = matrices.zip(peaks(model)) else { return Vec::new() };
+    model
+        .coordinates()
+        .iter()
+        .enumerate()
+        .filter_map(|(j, c)| {
+            let (q, v) = peaks[j];
+            let (m, k) = (so.m[(j, j)], so.k[(j, j)]);
+            (q > 0.0 && v > 0.0 && m > 0.0 && k > 0.0).then(|| Scales {
+                coordinate: c.clone(),
+                q,
+                v,
+                k,
+                viscous: so.d[(j, j)].max(0.02 * (k * m).sqrt()) * v,
+            })
+        })
+        .collect()
+}
+
 fn trial(
     effect: Effect,
     label: String,
@@ -101,71 +140,65 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
             .on_output(o),
         );
     }
-    let matrices = model.second_order::<f64>(&model.values()).ok().flatten();
-    if let Some((so, peaks)) = matrices.zip(peaks(model)) {
-        for (j, c) in model.coordinates().iter().enumerate() {
-            let (q, v) = peaks[j];
-            let (m, k) = (so.m[(j, j)], so.k[(j, j)]);
-            if !(q > 0.0 && v > 0.0 && m > 0.0 && k > 0.0) {
-                continue;
-            }
-            // The viscous force at the peak rate (at least that of 1 % critical damping).
-            let viscous = so.d[(j, j)].max(0.02 * (k * m).sqrt()) * v;
-            out.push(
-                trial(
-                    // Smoothed over 1 % of the peak rate: sharp for the motion, smooth enough
-                    // for the integrator's substep at the bounds' largest force.
-                    Effect::DryFriction {
-                        coordinate: c.clone(),
-                        force: 0.02 * k * q,
-                        smoothing_velocity: 0.01 * v,
-                    },
-                    format!("coulomb_friction({c})"),
-                    vec![(format!("friction_{c}"), (0.0, 0.3 * k * q))],
-                    vec![Strength::Nonzero(format!("friction_{c}"))],
-                    &outputs,
-                )
-                .or_from(Effect::DryFriction {
+    for Scales { coordinate: c, q, v, k, viscous } in scales(model) {
+        out.push(
+            trial(
+                // Smoothed over 1 % of the peak rate: sharp for the motion, smooth enough
+                // for the integrator's substep at the bounds' largest force.
+                Effect::DryFriction {
                     coordinate: c.clone(),
-                    force: 0.1 * k * q,
+                    force: 0.02 * k * q,
                     smoothing_velocity: 0.01 * v,
-                }),
-            );
-            out.push(
-                trial(
-                    // Drag equal to a fifth of the viscous force at the peak rate.
-                    Effect::Drag {
-                        coordinate: c.clone(),
-                        coefficient: 0.2 * viscous / (v * v),
-                        exponent: 2.0,
-                    },
-                    format!("quadratic_drag({c})"),
-                    vec![
-                        (format!("drag_{c}"), (0.0, 200.0 * viscous / (v * v))),
-                        (format!("drag_exponent_{c}"), (1.2, 3.5)),
-                    ],
-                    vec![Strength::Nonzero(format!("drag_{c}"))],
-                    &outputs,
-                )
-                .or_from(Effect::Drag {
+                },
+                format!("coulomb_friction({c})"),
+                vec![(format!("friction_{c}"), (0.0, 0.3 * k * q))],
+                vec![Strength::Nonzero(format!("friction_{c}"))],
+                &outputs,
+            )
+            .or_from(Effect::DryFriction {
+                coordinate: c.clone(),
+                force: 0.1 * k * q,
+                smoothing_velocity: 0.01 * v,
+            }),
+        );
+        out.push(
+            trial(
+                // Drag equal to a fifth of the viscous force at the peak rate.
+                Effect::Drag { coordinate: c.clone(), coefficient: 0.2 * viscous / (v * v), exponent: 2.0 },
+                format!("quadratic_drag({c})"),
+                vec![
+                    (format!("drag_{c}"), (0.0, 200.0 * viscous / (v * v))),
+                    (format!("drag_exponent_{c}"), (1.2, 3.5)),
+                ],
+                vec![Strength::Nonzero(format!("drag_{c}"))],
+                &outputs,
+            )
+            .or_from(Effect::Drag {
+                coordinate: c.clone(),
+                coefficient: viscous / (v * v),
+                exponent: 2.0,
+            }),
+        );
+        out.push(
+            trial(
+                // Hardening and softening starts (the stiffnesses can take up part of a
+                // cubic from either side).
+                Effect::CubicStiffness {
                     coordinate: c.clone(),
-                    coefficient: viscous / (v * v),
-                    exponent: 2.0,
-                }),
-            );
-            out.push(
-                trial(
-                    // Hardening and softening starts (the stiffnesses can take up part of a
-                    // cubic from either side).
-                    Effect::CubicStiffness { coordinate: c.clone(), coefficient: 0.05 * k / (q * q) },
-                    format!("cubic_stiffness({c})"),
-                    vec![(format!("cubic_{c}"), (-10.0 * k / (q * q), 10.0 * k / (q * q)))],
-                    vec![Strength::Nonzero(format!("cubic_{c}"))],
-                    &outputs,
-                )
-                .or_from(Effect::CubicStiffness { coordinate: c.clone(), coefficient: -0.05 * k / (q * q) }),
-            );
-        }
+                    coefficient: 0.05 * k / (q * q),
+                    quadratic: None,
+                },
+                format!("cubic_stiffness({c})"),
+                vec![(format!("cubic_{c}"), (-10.0 * k / (q * q), 10.0 * k / (q * q)))],
+                vec![Strength::Nonzero(format!("cubic_{c}"))],
+                &outputs,
+            )
+            .or_from(Effect::CubicStiffness {
+                coordinate: c.clone(),
+                coefficient: -0.05 * k / (q * q),
+                quadratic: None,
+            }),
+        );
     }
     // A mode within 15 % of a modelled one is not told from a change of that mode (its
     // frequency or damping, or their dependence on amplitude): seeds there are not tried, and
