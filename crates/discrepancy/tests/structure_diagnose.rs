@@ -47,7 +47,8 @@ fn a_hardening_storey_spring_is_a_cubic_spring_at_its_floor() {
 
 /// The roof meets a Hertzian stop on one side (f = 9e7 (q3 − 0.0195)^1.5 while q3 > 0.0195 m,
 /// outside the catalog): a symmetric cubic at the roof predicts held out, but the data demand
-/// an asymmetric part beside it, stiffer on the side of the stop (k₂ > 0), so nothing is named.
+/// an asymmetric part beside it and a quintic, stiffer on the side of the stop (k₂ > 0), so
+/// nothing is named.
 #[test]
 fn a_one_sided_stop_is_not_named_a_symmetric_spring() {
     let d = run("contact_q3");
@@ -56,7 +57,7 @@ fn a_one_sided_stop_is_not_named_a_symmetric_spring() {
     assert_eq!(c.label, "cubic_stiffness(q3)");
     let a = d.asymmetry.as_ref().expect("tested");
     let se = a.parameter.std_error.expect("determined");
-    assert!(a.demanded && a.parameter.value > 5.0 * se && a.gain > 10.0, "{a:?}");
+    assert!(a.demanded && a.parameter.value > 3.0 * se && a.gain > 10.0, "{a:?}");
     assert!(d.answer().iter().any(|s| s.contains("stiffer on one side")), "{:?}", d.answer());
 }
 

@@ -36,16 +36,18 @@ fn building() -> ([[f64; 3]; 3], [[f64; 3]; 3]) {
 
 /// The asymmetric part k₂ of the spring at q1 in [`EFFECTS`].
 const QUADRATIC: f64 = 2e8;
+/// Its quintic part k₅.
+const QUINTIC: f64 = 5e13;
 
-/// RK4 with a fine fixed step of the building with a spring k₃q³ + k₂q² at q1 (k₂ =
-/// [`QUADRATIC`]), drag at q3 and dry friction at q2; returns q1, q3, and the acceleration of q3
+/// RK4 with a fine fixed step of the building with a spring k₃q³ + k₂q² + k₅q⁵ at q1 (k₂ =
+/// [`QUADRATIC`], k₅ = [`QUINTIC`]), drag at q3 and dry friction at q2; returns q1, q3, and the acceleration of q3
 /// at every `h`.
 fn rk4(k_samples: usize, h: f64, cubic: f64, drag: (f64, f64), friction: (f64, f64)) -> Vec<[f64; 3]> {
     let (k, d) = building();
     let rhs = |x: &[f64; 6]| -> [f64; 6] {
         let (q, v) = ([x[0], x[1], x[2]], [x[3], x[4], x[5]]);
         let mut f = [0.0; 3];
-        f[0] -= cubic * q[0].powi(3) + QUADRATIC * q[0] * q[0];
+        f[0] -= cubic * q[0].powi(3) + QUADRATIC * q[0] * q[0] + QUINTIC * q[0].powi(5);
         f[2] -= drag.0 * v[2] * v[2].abs().powf(drag.1 - 1.0);
         f[1] -= friction.0 * v[1] / (v[1] * v[1] + friction.1 * friction.1).sqrt();
         let mut out = [v[0], v[1], v[2], 0.0, 0.0, 0.0];
@@ -73,7 +75,7 @@ fn rk4(k_samples: usize, h: f64, cubic: f64, drag: (f64, f64), friction: (f64, f
     out
 }
 
-const EFFECTS: &str = "CubicStiffness(coordinate: \"q1\", coefficient: 3e10, quadratic: Some(2e8)), \
+const EFFECTS: &str = "CubicStiffness(coordinate: \"q1\", coefficient: 3e10, quadratic: Some(2e8), quintic: Some(5e13)), \
      Drag(coordinate: \"q3\", coefficient: 800, exponent: 2.0), \
      DryFriction(coordinate: \"q2\", force: 150, smoothing_velocity: 0.01)";
 
@@ -117,7 +119,16 @@ fn an_acceleration_output_reads_the_forces_too() {
 #[test]
 fn force_sensitivities_are_central_differences() {
     let model = with_effects(EFFECTS);
-    let free = ["k1", "beta", "cubic_q1", "quadratic_q1", "drag_q3", "drag_exponent_q3", "friction_q2"];
+    let free = [
+        "k1",
+        "beta",
+        "cubic_q1",
+        "quadratic_q1",
+        "quintic_q1",
+        "drag_q3",
+        "drag_exponent_q3",
+        "friction_q2",
+    ];
     let response = model.response(&free).unwrap();
     let p: Vec<f64> = free.iter().map(|n| model.value(n).unwrap()).collect();
     let (k, h) = (300, 0.005);
@@ -202,6 +213,7 @@ fn effects_are_checked_where_they_stand_and_written_back() {
     assert_eq!(again.value("cubic_q1").unwrap(), 1e10);
     assert_eq!(again.value("friction_q2").unwrap(), 150.0);
     assert_eq!(again.value("quadratic_q1").unwrap(), QUADRATIC);
+    assert_eq!(again.value("quintic_q1").unwrap(), QUINTIC);
     assert!(!again.is_linear());
 }
 

@@ -8,8 +8,8 @@
 //!   M q̈ + D q̇ + K q = F u − e_j f_j(q_j, q̇_j):
 //!   dry friction f = F_c·v/√(v² + v_s²) (a smooth sign of width v_s), drag
 //!   f = c·v·|v|^(e−1) (velocity exponent e ≥ 1, quadratic for e = 2), and a hardening
-//!   (k₃ > 0) or softening (k₃ < 0) spring f = k₃ q³ + k₂ q² (k₂, its asymmetric part,
-//!   optional). With x = [q; q̇] the state equation is
+//!   (k₃ > 0) or softening (k₃ < 0) spring f = k₃ q³ + k₂ q² + k₅ q⁵ (k₂, its asymmetric part,
+//!   and k₅ optional). With x = [q; q̇] the state equation is
 //!   ẋ = A x + B u + G f(x), G's column j = [0; −M⁻¹e_j], and an acceleration output reads
 //!   its share of the force, y = C x + D u + H f(x) (H from the rows of G).
 //! * **An unmodeled mode**: a damped oscillation at f_e with damping ratio ζ_e that the model's
@@ -19,7 +19,7 @@
 //!
 //! Every effect's parameters join the model's, after the file's, with names that say where they
 //! act: `offset_<output>`, `scale_<output>`, `drift_<output>`, `friction_<coordinate>`,
-//! `drag_<coordinate>`, `drag_exponent_<coordinate>`, `cubic_<coordinate>`, `quadratic_<coordinate>`, `mode_frequency`,
+//! `drag_<coordinate>`, `drag_exponent_<coordinate>`, `cubic_<coordinate>`, `quadratic_<coordinate>`, `quintic_<coordinate>`, `mode_frequency`,
 //! `mode_damping`, `mode_cos_<output>`, `mode_sin_<output>`. A quantization step and a friction's
 //! smoothing width are settings, not parameters.
 
@@ -88,6 +88,10 @@ pub enum Effect {
         /// `quadratic_<coordinate>` when given.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         quadratic: Option<f64>,
+        /// k₅, a quintic part k₅q⁵ (symmetric, as k₃q³; 0 when absent); a parameter
+        /// `quintic_<coordinate>` when given.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        quintic: Option<f64>,
     },
     /// A mode the model lacks, seen in every output with its own amplitude.
     UnmodeledMode {
@@ -179,9 +183,10 @@ impl Effect {
                 (format!("drag_{coordinate}"), *coefficient),
                 (format!("drag_exponent_{coordinate}"), *exponent),
             ],
-            Effect::CubicStiffness { coordinate, coefficient, quadratic } => {
+            Effect::CubicStiffness { coordinate, coefficient, quadratic, quintic } => {
                 let mut out = vec![(format!("cubic_{coordinate}"), *coefficient)];
                 out.extend(quadratic.map(|k2| (format!("quadratic_{coordinate}"), k2)));
+                out.extend(quintic.map(|k5| (format!("quintic_{coordinate}"), k5)));
                 out
             }
             Effect::UnmodeledMode { frequency_hz, damping_ratio, amplitudes } => {
@@ -204,10 +209,12 @@ impl Effect {
             Effect::OutputOffset { offset: v, .. }
             | Effect::SensorScale { scale: v, .. }
             | Effect::SensorDrift { rate: v, .. }
-            | Effect::DryFriction { force: v, .. }
-            | Effect::CubicStiffness { coefficient: v, quadratic: None, .. } => *v = value,
-            Effect::CubicStiffness { coefficient, quadratic: Some(k2), .. } => {
-                *[coefficient, k2][k] = value;
+            | Effect::DryFriction { force: v, .. } => *v = value,
+            Effect::CubicStiffness { coefficient, quadratic, quintic, .. } => {
+                let mut slots: Vec<&mut f64> = vec![coefficient];
+                slots.extend(quadratic.as_mut());
+                slots.extend(quintic.as_mut());
+                *slots[k] = value;
             }
             Effect::Drag { coefficient, exponent, .. } => *[coefficient, exponent][k] = value,
             Effect::UnmodeledMode { frequency_hz, damping_ratio, amplitudes } => match k {
@@ -291,9 +298,16 @@ impl Effect {
                     c * v * (v * v).powd((e - D::from(1.0)) * D::from(0.5))
                 }
             }
-            Effect::CubicStiffness { quadratic, .. } => {
-                let cubic = theta[0] * q * q * q;
-                if quadratic.is_some() { cubic + theta[1] * q * q } else { cubic }
+            Effect::CubicStiffness { quadratic, quintic, .. } => {
+                let q3 = q * q * q;
+                let mut f = theta[0] * q3;
+                if quadratic.is_some() {
+                    f += theta[1] * q * q;
+                }
+                if quintic.is_some() {
+                    f += theta[1 + usize::from(quadratic.is_some())] * q3 * q * q;
+                }
+                f
             }
             _ => D::from(0.0),
         }

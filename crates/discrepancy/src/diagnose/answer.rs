@@ -60,17 +60,19 @@ impl Rival {
 }
 
 /// A named symmetric spring's asymmetric part (a structure's `cubic_stiffness` at coordinate c:
-/// k₂q_c², `quadratic_<c>`), refitted beside it from its fit. When the data demand it — it gains
-/// at least the held-out threshold in sample and is determined inside its range — the restoring
-/// force is stiffer on one side than the other (a stop, a contact, a gap that closes one way):
-/// physics the catalog's symmetric spring does not hold, so nothing is named
-/// ([`Verdict::Asymmetric`]).
+/// k₂q_c², `quadratic_<c>`), refitted from its fit beside it and a symmetric refinement of its
+/// form (k₅q_c⁵). When the data demand it — it gains at least the held-out threshold in sample
+/// beside both and is determined inside its range — the restoring force is
+/// stiffer on one side than the other (a stop, a contact, a gap that closes one way): physics
+/// the catalog's symmetric spring does not hold, so nothing is named ([`Verdict::Asymmetric`]).
 #[derive(Clone, Debug, Serialize)]
 pub struct Asymmetry {
     /// k₂ as refitted beside the spring.
     pub parameter: EffectParameter,
-    /// In-sample gain of adding it (nats), over the symmetric spring's fit.
+    /// In-sample gain of adding it (nats) beside the spring and its quintic term.
     pub gain: f64,
+    /// In-sample gain of the symmetric quintic term k₅q_c⁵ beside the spring (nats).
+    pub symmetric_gain: f64,
     /// Whether the data demand it (then the spring is [`Verdict::Asymmetric`]).
     pub demanded: bool,
 }

@@ -145,40 +145,6 @@ pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
     all.into_iter().filter(|t| !refitted.contains(&t.name)).collect()
 }
 
-/// For a second-order structure, the asymmetric part k₂q_j² of a spring at every coordinate
-/// whose model has no nonlinear spring there (`quadratic_<coordinate>`, the quadratic part of
-/// `CubicStiffness`, added at zero with the cubic part at zero; within ±10 k_jj/q̂_j, as the
-/// cubic candidate's ±10 k_jj/q̂_j²). A restoring force stiffer on one side than the other —
-/// a stop or contact on one side, a gap that closes one way — shifts the motion's centre and
-/// changes its frequency with amplitude: a symmetric cubic takes up the second alone, and is
-/// tested for the first by refitting it with this part beside it ([`super::named::asymmetry`]).
-pub(super) fn asymmetric_springs(model: &structure::StructureModel) -> Vec<RivalTrial> {
-    crate::diagnose::catalog::structure::scales(model)
-        .into_iter()
-        .filter(|s| {
-            !model.effects().iter().any(|e| {
-                e.kind() == structure::EffectKind::CubicStiffness
-                    && e.target() == structure::effects::Target::Coordinate(&s.coordinate)
-            })
-        })
-        .map(|s| {
-            let limit = 10.0 * s.k / s.q;
-            RivalTrial {
-                name: format!("quadratic_{}", s.coordinate),
-                bounds: (-limit, limit),
-                adds: Some(
-                    structure::Effect::CubicStiffness {
-                        coordinate: s.coordinate,
-                        coefficient: 0.0,
-                        quadratic: Some(0.0),
-                    }
-                    .into(),
-                ),
-            }
-        })
-        .collect()
-}
-
 /// The range within `share` of `v` on either side, ordered for a negative `v` too.
 fn around(v: f64, share: f64) -> (f64, f64) {
     let (a, b) = ((1.0 - share) * v, (1.0 + share) * v);

@@ -26,10 +26,12 @@
 //!    effect of one to three is the simpler answer. (For a sensor scale, the parameters that
 //!    scale its output alone are its exact equivalents and reported as such, not tried.)
 //! 8. a symmetric spring (a structure's `cubic_stiffness` at coordinate c) is not demanded to
-//!    be asymmetric: refitted with k₂q_c² beside its k₃q_c³, the asymmetric part gains less than
-//!    the threshold in sample or is not determined ([`Asymmetry`], [`Verdict::Asymmetric`]). A
-//!    stop, a contact or a gap on one side is stiffer one way than the other — physics outside
-//!    the catalog that a symmetric cubic would otherwise stand in for.
+//!    be asymmetric: refitted with k₂q_c² beside its k₃q_c³ and a symmetric k₅q_c⁵, the
+//!    asymmetric part gains less than the threshold in sample or is not determined
+//!    ([`Asymmetry`], [`Verdict::Asymmetric`]). A stop, a contact or a gap on one side is
+//!    stiffer one way than the other — physics outside the catalog that a symmetric cubic would
+//!    otherwise stand in for; the quintic takes up what a symmetric spring of another form
+//!    leaves, so that only asymmetry is left for k₂.
 //!
 //! Sensor quantization is a measurement model, not a force: it is named when the raw readings
 //! of a sensor lie on a lattice while the signal moves, with a step comparable to the noise or

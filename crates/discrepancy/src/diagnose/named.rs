@@ -167,11 +167,19 @@ pub(super) fn choose(candidates: &[Candidate], threshold: f64) -> Option<usize> 
     })
 }
 
-/// The asymmetry test of a named structure `cubic_stiffness` at coordinate c ([`Asymmetry`]):
-/// from the candidate's fit, the spring is refitted with its asymmetric part k₂q_c² added at zero
-/// and freed (within the range of [`mismatch::asymmetric_springs`]), and without it, both to the
-/// fitter's own convergence — the asymmetric refit from the symmetric one's optimum; the gain is
-/// the difference of their in-sample log-likelihoods (`gain`, each over the reference). `None` for any other candidate, or when a refit fails.
+/// The asymmetry test of a named structure `cubic_stiffness` at coordinate c ([`Asymmetry`]).
+/// A restoring force stiffer on one side than the other — a stop or contact on one side, a gap
+/// that closes one way — shifts the motion's centre and changes its frequency with amplitude: a
+/// symmetric cubic takes up the second alone. From the candidate's fit the spring is refitted to
+/// the fitter's own convergence, first as it is (k₃q_c³), then with a symmetric refinement of its
+/// form k₅q_c⁵ (`quintic_<c>`, within ±10 k_cc/q̂_c⁴), then with its asymmetric part k₂q_c² beside
+/// both (`quadratic_<c>`, within ±10 k_cc/q̂_c; k_cc and q̂_c from the model,
+/// [`super::catalog::structure::scales`]), each from the optimum before it. A term's gain is the
+/// difference of in-sample log-likelihoods (`gain`, each over the reference). The asymmetric part
+/// is demanded when it gains at least `threshold` beside the quintic and is determined: a spring
+/// whose form is not quite k₃q³ (a quintic in the truth, say) lets any one more term gain a
+/// little, which the symmetric refinement takes up; what is left for k₂ is asymmetry.
+/// `None` for any other candidate, or when a refit fails.
 pub(super) fn asymmetry(
     candidate: &Candidate,
     trial: &Trial,
@@ -182,38 +190,57 @@ pub(super) fn asymmetry(
     gain: impl Fn(&FitOutcome) -> f64 + Sync,
 ) -> Option<Asymmetry> {
     let models::ModelEffect::Structure(structure::Effect::CubicStiffness {
-        coordinate, quadratic: None, ..
+        coordinate,
+        quadratic: None,
+        quintic: None,
+        ..
     }) = &trial.effect
     else {
         return None;
     };
     let fitted = candidate.model.as_ref()?;
-    let spring = mismatch::asymmetric_springs(reference.as_structure()?)
+    let scales = super::catalog::structure::scales(reference.as_structure()?)
         .into_iter()
-        .find(|t| t.name == format!("quadratic_{coordinate}"))?;
+        .find(|s| s.coordinate == *coordinate)?;
+    let (quadratic, quintic) = (format!("quadratic_{coordinate}"), format!("quintic_{coordinate}"));
     let mut from = reference.clone();
-    from.add_effect(spring.adds.clone()?).ok()?;
+    from.add_effect(
+        structure::Effect::CubicStiffness {
+            coordinate: coordinate.clone(),
+            coefficient: 0.0,
+            quadratic: Some(0.0),
+            quintic: Some(0.0),
+        }
+        .into(),
+    )
+    .ok()?;
     for name in fitted.parameter_names() {
         from.set(&name, fitted.value(&name).ok()?).ok()?;
     }
     for (name, bounds) in &trial.bounds {
         from.set_bounds(name, *bounds).ok()?;
     }
-    from.set_bounds(&spring.name, spring.bounds).ok()?;
-    let symmetric: Vec<String> = free.iter().chain(&trial.freed).cloned().collect();
-    let asymmetric: Vec<String> = symmetric.iter().chain([&spring.name]).cloned().collect();
-    // The asymmetric refit starts where the symmetric one ends: it can only gain.
-    let without = run::refit_to(&from, data, &symmetric, None, 60, run::Precision::Optimum).ok()?;
-    let with = run::refit_to(&without.fitted, data, &asymmetric, None, 60, run::Precision::Optimum).ok()?;
-    let i = with.report.names.iter().position(|n| *n == spring.name)?;
-    let added = gain(&with) - gain(&without);
+    let limit = |power: i32| 10.0 * scales.k / scales.q.powi(power);
+    from.set_bounds(&quadratic, (-limit(1), limit(1))).ok()?;
+    from.set_bounds(&quintic, (-limit(4), limit(4))).ok()?;
+    // Each refit starts where the one before it ends.
+    let cubic: Vec<String> = free.iter().chain(&trial.freed).cloned().collect();
+    let symmetric: Vec<String> = cubic.iter().chain([&quintic]).cloned().collect();
+    let both: Vec<String> = symmetric.iter().chain([&quadratic]).cloned().collect();
+    let as_named = run::refit_to(&from, data, &cubic, None, 60, run::Precision::Optimum).ok()?;
+    let refined =
+        run::refit_to(&as_named.fitted, data, &symmetric, None, 60, run::Precision::Optimum).ok()?;
+    let asymmetric = run::refit_to(&refined.fitted, data, &both, None, 60, run::Precision::Optimum).ok()?;
+    let i = asymmetric.report.names.iter().position(|n| *n == quadratic)?;
+    let (added, control) = (gain(&asymmetric) - gain(&refined), gain(&refined) - gain(&as_named));
     Some(Asymmetry {
         parameter: EffectParameter {
-            name: spring.name.clone(),
-            value: with.report.parameters[i],
-            std_error: with.report.std_error(i),
+            name: quadratic.clone(),
+            value: asymmetric.report.parameters[i],
+            std_error: asymmetric.report.std_error(i),
         },
         gain: added,
-        demanded: added >= threshold && mismatch::determined(&with, &spring.name),
+        symmetric_gain: control,
+        demanded: added >= threshold && mismatch::determined(&asymmetric, &quadratic),
     })
 }

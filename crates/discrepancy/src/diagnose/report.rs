@@ -194,13 +194,15 @@ impl Diagnosis {
                                 Some(a) => format!(
                                     "predictive on held-out blocks ({:.1} nats in sample), but the restoring force \
                                      is stiffer on one side than the other: its asymmetric part `{}` = {:.4e}{} adds \
-                                     {:.1} nats beside it — a stop, a contact or a gap that closes one way, which \
-                                     the catalog's symmetric spring does not hold",
+                                     {:.1} nats beside it and a symmetric quintic term (which adds {:.1}) — a stop, \
+                                     a contact or a gap that closes one way, which the catalog's symmetric spring \
+                                     does not hold",
                                     best.evidence.in_sample,
                                     a.parameter.name,
                                     a.parameter.value,
                                     a.parameter.std_error.map_or(String::new(), |se| format!(" ± {se:.2e}")),
-                                    a.gain
+                                    a.gain,
+                                    a.symmetric_gain
                                 ),
                                 None => "asymmetric".to_string(),
                             },

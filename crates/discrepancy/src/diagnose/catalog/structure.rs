@@ -187,6 +187,7 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
                     coordinate: c.clone(),
                     coefficient: 0.05 * k / (q * q),
                     quadratic: None,
+                    quintic: None,
                 },
                 format!("cubic_stiffness({c})"),
                 vec![(format!("cubic_{c}"), (-10.0 * k / (q * q), 10.0 * k / (q * q)))],
@@ -197,6 +198,7 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
                 coordinate: c.clone(),
                 coefficient: -0.05 * k / (q * q),
                 quadratic: None,
+                quintic: None,
             }),
         );
     }
