@@ -202,8 +202,9 @@ pub struct Diagnosis {
     /// For a named effect, or the one they unseated: the model's parameters that, refitted
     /// alone instead, explain the data as well ([`Rival`]).
     pub rivals: Vec<Rival>,
-    /// For a named (or unseated) structure `cubic_stiffness`: its asymmetric part refitted
-    /// beside it ([`Asymmetry`]).
+    /// For a structure `cubic_stiffness` that was named, or set aside as
+    /// [`Verdict::Asymmetric`]: its asymmetric part refitted beside it ([`Asymmetry`]). `None`
+    /// otherwise, also when a rival unseated the spring first (the test is not run then).
     pub asymmetry: Option<Asymmetry>,
 }
 

@@ -40,8 +40,9 @@ pub struct DiagnosisReport<'a> {
     /// ([`Verdict::MatchedByMismatch`]), those that explain them at least as well (empty
     /// otherwise).
     pub rival_mismatches: &'a [super::Rival],
-    /// For a named (or unseated) structure `cubic_stiffness`: its asymmetric part k₂q² refitted
-    /// beside it, and whether the data demand it ([`Verdict::Asymmetric`]); absent otherwise.
+    /// For a structure `cubic_stiffness` that was named, or set aside as
+    /// [`Verdict::Asymmetric`]: its asymmetric part k₂q² refitted beside it, and whether the data
+    /// demand it; absent otherwise.
     pub asymmetric_spring: Option<&'a super::Asymmetry>,
 }
 
@@ -136,7 +137,8 @@ impl Diagnosis {
                         self.mismatch_gain
                     ));
                 }
-                // The effect a mismatch unseated, if one was; else the best predictor held out.
+                // The effect a mismatch unseated or the asymmetry test set aside, if one was; else
+                // the best predictor held out.
                 let unseated = self
                     .candidates
                     .iter()
