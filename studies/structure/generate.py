@@ -19,9 +19,12 @@ Families (as studies/diagnose, so that its score.py scores them):
   C  physics outside the catalog: a storey stiffness degrading during the record, and pounding of
      the roof against a stop (a one-sided spring); with --more-c also a one-sided Hertzian contact
      (f = k d^1.5) and a one-sided linear stop at a random floor and side, the stop's force at the
-     penetration the linear decay would reach 0.1 / 0.3 / 1 x k_jj q_peak (weak / medium / strong)
+     penetration the linear decay would reach 0.1 / 0.3 / 1 x k_jj q_peak (weak / medium / strong);
+     with --more-degrading also a storey (any of the three; its spring acts on the storey's drift)
+     that loses 2 / 5 / 10 % of its stiffness by the record's end, by an exponential law in time
+     (tau 1-4 s) or in a sudden smooth step (tanh, at 1-4 s, width 0.3 s)
 
-usage:  python3 studies/structure/generate.py --out DIR --set dev|held [--seed N] [--more-c]
+usage:  python3 studies/structure/generate.py --out DIR --set dev|held [--seed N] [--more-c] [--more-degrading]
 """
 import argparse
 import json
@@ -191,6 +194,29 @@ def case_c(rng, kind, strength):
         kc = peak_force / reach ** law
         force = lambda q, v, t: -np.eye(3)[j] * side * kc * max(side * q[j] - gap, 0.0) ** law
         truth = dict(kind=f"one_sided_{kind}", coordinate=f"q{j + 1}", side=side, gap=gap, k=kc, law=law)
+    elif kind in ("loss_exp", "loss_step"):  # a storey that degrades by another law (--more-degrading)
+        j = int(rng.integers(0, 3))  # the storey: its spring joins floor j to floor j-1 (the ground for j = 0)
+        loss = [0.02, 0.05, 0.1][s]  # the share of that storey's stiffness lost by the end of the record
+        ks = [K[0, 0] + K[0, 1], -K[0, 1], -K[1, 2]][j]  # k1, k2, k3
+        T = (N - 1) * H
+        if kind == "loss_exp":  # k_s(t) = k_s (1 - loss (1 - e^(-t/tau)) / (1 - e^(-T/tau)))
+            tau = rng.uniform(1.0, 4.0)
+            share = lambda t: (1.0 - np.exp(-t / tau)) / (1.0 - np.exp(-T / tau))
+            law = dict(tau=tau)
+        else:  # a sudden loss, a smooth step at t_d of width w
+            td, w = rng.uniform(1.0, 4.0), 0.3
+            share = lambda t: 0.5 * (1.0 + np.tanh((t - td) / w))
+            law = dict(t_d=td, width=w)
+
+        def force(q, v, t):
+            drift = q[j] - (q[j - 1] if j > 0 else 0.0)
+            f = np.zeros(3)
+            f[j] += loss * share(t) * ks * drift
+            if j > 0:
+                f[j - 1] -= loss * share(t) * ks * drift
+            return f
+
+        truth = dict(kind=f"stiffness_{kind}", storey=j + 1, loss=loss, **law)
     elif kind == "degrading":
         loss = [0.02, 0.05, 0.1][s]  # storey 1 loses this share of its stiffness over the record
         k1 = K[0, 0] + K[0, 1]  # the storey-1 spring (K[0,1] = -k2)
@@ -217,6 +243,9 @@ def main():
     ap.add_argument("--more-c", action="store_true",
                     help="append family-C forms absent from dev and held: a one-sided Hertzian contact and "
                          "a one-sided linear stop at a random floor and side (12 cases)")
+    ap.add_argument("--more-degrading", action="store_true",
+                    help="append family-C degradations absent from dev and held: a storey (any of the three) that "
+                         "loses stiffness by an exponential law in time or in a sudden smooth step (12 cases)")
     opt = ap.parse_args()
     rng = np.random.default_rng(opt.seed if opt.seed is not None else (20261123 if opt.set == "dev" else 20261124))
     os.makedirs(os.path.join(opt.out, "data"), exist_ok=True)
@@ -246,7 +275,7 @@ def main():
             for seed in range(2):
                 y, truth = case_c(rng, kind, strength)
                 write(f"C_{kind}_{strength}_s{seed}", y, "C", "none", ["none"], strength, truth)
-    for kind in ["contact", "stop"] if opt.more_c else []:
+    for kind in (["contact", "stop"] if opt.more_c else []) + (["loss_exp", "loss_step"] if opt.more_degrading else []):
         for strength in LEVELS:
             for seed in range(2):
                 y, truth = case_c(rng, kind, strength)

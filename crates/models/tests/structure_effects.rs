@@ -38,16 +38,18 @@ fn building() -> ([[f64; 3]; 3], [[f64; 3]; 3]) {
 const QUADRATIC: f64 = 2e8;
 /// Its quintic part k₅.
 const QUINTIC: f64 = 5e13;
+/// The rate k₁′ at which its linear stiffness changes (f += k₁′·t·q1): −8 % of k1 a second.
+const RATE: f64 = -2e5;
 
-/// RK4 with a fine fixed step of the building with a spring k₃q³ + k₂q² + k₅q⁵ at q1 (k₂ =
-/// [`QUADRATIC`], k₅ = [`QUINTIC`]), drag at q3 and dry friction at q2; returns q1, q3, and the acceleration of q3
-/// at every `h`.
+/// RK4 with a fine fixed step of the building with a spring k₃q³ + k₂q² + k₅q⁵ + k₁′·t·q at q1
+/// (k₂ = [`QUADRATIC`], k₅ = [`QUINTIC`], k₁′ = [`RATE`]), drag at q3 and dry friction at q2;
+/// returns q1, q3, and the acceleration of q3 at every `h`.
 fn rk4(k_samples: usize, h: f64, cubic: f64, drag: (f64, f64), friction: (f64, f64)) -> Vec<[f64; 3]> {
     let (k, d) = building();
-    let rhs = |x: &[f64; 6]| -> [f64; 6] {
+    let rhs = |t: f64, x: &[f64; 6]| -> [f64; 6] {
         let (q, v) = ([x[0], x[1], x[2]], [x[3], x[4], x[5]]);
         let mut f = [0.0; 3];
-        f[0] -= cubic * q[0].powi(3) + QUADRATIC * q[0] * q[0] + QUINTIC * q[0].powi(5);
+        f[0] -= cubic * q[0].powi(3) + QUADRATIC * q[0] * q[0] + QUINTIC * q[0].powi(5) + RATE * t * q[0];
         f[2] -= drag.0 * v[2] * v[2].abs().powf(drag.1 - 1.0);
         f[1] -= friction.0 * v[1] / (v[1] * v[1] + friction.1 * friction.1).sqrt();
         let mut out = [v[0], v[1], v[2], 0.0, 0.0, 0.0];
@@ -61,21 +63,23 @@ fn rk4(k_samples: usize, h: f64, cubic: f64, drag: (f64, f64), friction: (f64, f
     let sub = 200;
     let dt = h / sub as f64;
     let mut out = Vec::with_capacity(k_samples);
-    for _ in 0..k_samples {
-        out.push([x[0], x[2], rhs(&x)[5]]);
-        for _ in 0..sub {
+    for sample in 0..k_samples {
+        out.push([x[0], x[2], rhs(sample as f64 * h, &x)[5]]);
+        for step in 0..sub {
+            let t = sample as f64 * h + step as f64 * dt;
             let add = |a: &[f64; 6], b: &[f64; 6], s: f64| std::array::from_fn(|i| a[i] + s * b[i]);
-            let k1 = rhs(&x);
-            let k2 = rhs(&add(&x, &k1, dt / 2.0));
-            let k3 = rhs(&add(&x, &k2, dt / 2.0));
-            let k4 = rhs(&add(&x, &k3, dt));
+            let k1 = rhs(t, &x);
+            let k2 = rhs(t + dt / 2.0, &add(&x, &k1, dt / 2.0));
+            let k3 = rhs(t + dt / 2.0, &add(&x, &k2, dt / 2.0));
+            let k4 = rhs(t + dt, &add(&x, &k3, dt));
             x = std::array::from_fn(|i| x[i] + dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]));
         }
     }
     out
 }
 
-const EFFECTS: &str = "CubicStiffness(coordinate: \"q1\", coefficient: 3e10, quadratic: Some(2e8), quintic: Some(5e13)), \
+const EFFECTS: &str = "CubicStiffness(coordinate: \"q1\", coefficient: 3e10, quadratic: Some(2e8), quintic: Some(5e13), \
+     rate: Some(-2e5)), \
      Drag(coordinate: \"q3\", coefficient: 800, exponent: 2.0), \
      DryFriction(coordinate: \"q2\", force: 150, smoothing_velocity: 0.01)";
 
@@ -125,6 +129,7 @@ fn force_sensitivities_are_central_differences() {
         "cubic_q1",
         "quadratic_q1",
         "quintic_q1",
+        "stiffness_rate_q1",
         "drag_q3",
         "drag_exponent_q3",
         "friction_q2",

@@ -8,10 +8,11 @@
 //!   M q̈ + D q̇ + K q = F u − e_j f_j(q_j, q̇_j):
 //!   dry friction f = F_c·v/√(v² + v_s²) (a smooth sign of width v_s), drag
 //!   f = c·v·|v|^(e−1) (velocity exponent e ≥ 1, quadratic for e = 2), and a hardening
-//!   (k₃ > 0) or softening (k₃ < 0) spring f = k₃ q³ + k₂ q² + k₅ q⁵ (k₂, its asymmetric part,
-//!   and k₅ optional). With x = [q; q̇] the state equation is
-//!   ẋ = A x + B u + G f(x), G's column j = [0; −M⁻¹e_j], and an acceleration output reads
-//!   its share of the force, y = C x + D u + H f(x) (H from the rows of G).
+//!   (k₃ > 0) or softening (k₃ < 0) spring f = k₃ q³ + k₂ q² + k₅ q⁵ + k₁′ t q (k₂, its
+//!   asymmetric part, k₅, and k₁′, a linear stiffness that changes over the record at time t
+//!   since the release, optional). With x = [q; q̇] the state equation is
+//!   ẋ = A x + B u + G f(t, x), G's column j = [0; −M⁻¹e_j], and an acceleration output reads
+//!   its share of the force, y = C x + D u + H f(t, x) (H from the rows of G).
 //! * **An unmodeled mode**: a damped oscillation at f_e with damping ratio ζ_e that the model's
 //!   modes do not contain — in free decay it adds to every output o its own amplitude,
 //!   y_o += a_o η(t) + b_o η̇(t)/ω_e, with η̈ + 2ζ_eω_e η̇ + ω_e² η = 0, η(0) = 1, η̇(0) = 0. It
@@ -19,7 +20,8 @@
 //!
 //! Every effect's parameters join the model's, after the file's, with names that say where they
 //! act: `offset_<output>`, `scale_<output>`, `drift_<output>`, `friction_<coordinate>`,
-//! `drag_<coordinate>`, `drag_exponent_<coordinate>`, `cubic_<coordinate>`, `quadratic_<coordinate>`, `quintic_<coordinate>`, `mode_frequency`,
+//! `drag_<coordinate>`, `drag_exponent_<coordinate>`, `cubic_<coordinate>`, `quadratic_<coordinate>`, `quintic_<coordinate>`,
+//! `stiffness_rate_<coordinate>`, `mode_frequency`,
 //! `mode_damping`, `mode_cos_<output>`, `mode_sin_<output>`. A quantization step and a friction's
 //! smoothing width are settings, not parameters.
 
@@ -77,8 +79,9 @@ pub enum Effect {
         /// e ≥ 1.
         exponent: f64,
     },
-    /// A nonlinear spring k₃q³ + k₂q² at a coordinate (hardening for k₃ > 0; k₂ makes it
-    /// asymmetric, stiffer on one side than the other).
+    /// A nonlinear spring k₃q³ + k₂q² + k₅q⁵ at a coordinate (hardening for k₃ > 0; k₂ makes it
+    /// asymmetric, stiffer on one side than the other), with a linear stiffness k₁′·t that
+    /// changes over the record if `rate` is given.
     CubicStiffness {
         /// The coordinate.
         coordinate: String,
@@ -92,6 +95,11 @@ pub enum Effect {
         /// `quintic_<coordinate>` when given.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         quintic: Option<f64>,
+        /// k₁′, a linear stiffness that grows at this rate over the record, f += k₁′·t·q with t
+        /// the time since the release \[N/m/s\] (negative for a spring that degrades; 0 when
+        /// absent); a parameter `stiffness_rate_<coordinate>` when given.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        rate: Option<f64>,
     },
     /// A mode the model lacks, seen in every output with its own amplitude.
     UnmodeledMode {
@@ -183,10 +191,11 @@ impl Effect {
                 (format!("drag_{coordinate}"), *coefficient),
                 (format!("drag_exponent_{coordinate}"), *exponent),
             ],
-            Effect::CubicStiffness { coordinate, coefficient, quadratic, quintic } => {
+            Effect::CubicStiffness { coordinate, coefficient, quadratic, quintic, rate } => {
                 let mut out = vec![(format!("cubic_{coordinate}"), *coefficient)];
                 out.extend(quadratic.map(|k2| (format!("quadratic_{coordinate}"), k2)));
                 out.extend(quintic.map(|k5| (format!("quintic_{coordinate}"), k5)));
+                out.extend(rate.map(|r| (format!("stiffness_rate_{coordinate}"), r)));
                 out
             }
             Effect::UnmodeledMode { frequency_hz, damping_ratio, amplitudes } => {
@@ -210,10 +219,11 @@ impl Effect {
             | Effect::SensorScale { scale: v, .. }
             | Effect::SensorDrift { rate: v, .. }
             | Effect::DryFriction { force: v, .. } => *v = value,
-            Effect::CubicStiffness { coefficient, quadratic, quintic, .. } => {
+            Effect::CubicStiffness { coefficient, quadratic, quintic, rate, .. } => {
                 let mut slots: Vec<&mut f64> = vec![coefficient];
                 slots.extend(quadratic.as_mut());
                 slots.extend(quintic.as_mut());
+                slots.extend(rate.as_mut());
                 *slots[k] = value;
             }
             Effect::Drag { coefficient, exponent, .. } => *[coefficient, exponent][k] = value,
@@ -279,10 +289,10 @@ impl Effect {
         })
     }
 
-    /// The force f_j at a state x = [q; q̇] of `n` coordinates, with this effect's parameters
-    /// `theta` (in the order of [`parameters`](Self::parameters)) and its coordinate `j`; zero for
-    /// an effect that is not a force.
-    pub(crate) fn force<D: Scalar>(&self, x: &[D], n: usize, j: usize, theta: &[D]) -> D {
+    /// The force f_j at time `t` since the release and a state x = [q; q̇] of `n` coordinates,
+    /// with this effect's parameters `theta` (in the order of [`parameters`](Self::parameters))
+    /// and its coordinate `j`; zero for an effect that is not a force.
+    pub(crate) fn force<D: Scalar>(&self, t: f64, x: &[D], n: usize, j: usize, theta: &[D]) -> D {
         let (q, v) = (x[j], x[n + j]);
         match self {
             Effect::DryFriction { smoothing_velocity, .. } => {
@@ -298,14 +308,20 @@ impl Effect {
                     c * v * (v * v).powd((e - D::from(1.0)) * D::from(0.5))
                 }
             }
-            Effect::CubicStiffness { quadratic, quintic, .. } => {
+            Effect::CubicStiffness { quadratic, quintic, rate, .. } => {
                 let q3 = q * q * q;
                 let mut f = theta[0] * q3;
+                let mut k = 1;
                 if quadratic.is_some() {
-                    f += theta[1] * q * q;
+                    f += theta[k] * q * q;
+                    k += 1;
                 }
                 if quintic.is_some() {
-                    f += theta[1 + usize::from(quadratic.is_some())] * q3 * q * q;
+                    f += theta[k] * q3 * q * q;
+                    k += 1;
+                }
+                if rate.is_some() {
+                    f += theta[k] * D::from(t) * q;
                 }
                 f
             }

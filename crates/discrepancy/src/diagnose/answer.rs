@@ -59,22 +59,36 @@ impl Rival {
     }
 }
 
-/// A named symmetric spring's asymmetric part (a structure's `cubic_stiffness` at coordinate c:
-/// k₂q_c², `quadratic_<c>`), refitted from its fit beside it and a symmetric refinement of its
-/// form (k₅q_c⁵). When the data demand it — it gains at least the held-out threshold in sample
-/// beside both and is determined inside its range — the restoring force is
-/// stiffer on one side than the other (a stop, a contact, a gap that closes one way): physics
-/// the catalog's symmetric spring does not hold, so nothing is named ([`Verdict::Asymmetric`]).
+/// One term of a named spring's form refitted beside it (step 8 of
+/// [module `diagnose`](mod@crate::diagnose)): the asymmetric part k₂q_c² (`quadratic_<c>`) or a
+/// linear stiffness that changes with time k₁′·t·q_c (`stiffness_rate_<c>`), each beside the
+/// spring and a symmetric refinement of its form k₅q_c⁵.
 #[derive(Clone, Debug, Serialize)]
-pub struct Asymmetry {
-    /// k₂ as refitted beside the spring.
+pub struct SpringTerm {
+    /// The term as refitted beside the spring.
     pub parameter: EffectParameter,
     /// In-sample gain of adding it (nats) beside the spring and its quintic term.
     pub gain: f64,
     /// In-sample gain of the symmetric quintic term k₅q_c⁵ beside the spring (nats).
     pub symmetric_gain: f64,
-    /// Whether the data demand it (then the spring is [`Verdict::Asymmetric`]).
+    /// Whether the data demand it: it is determined inside its range and gains at least the
+    /// held-out threshold, or lies 5 standard errors from zero (step 8 of
+    /// [module `diagnose`](mod@crate::diagnose)).
     pub demanded: bool,
+}
+
+/// The form of a named symmetric spring (a structure's `cubic_stiffness` at coordinate c),
+/// tested beside it (step 8 of [module `diagnose`](mod@crate::diagnose)). When the data demand
+/// either term, the spring stands for physics the catalog does not hold, and nothing is named.
+#[derive(Clone, Debug, Serialize)]
+pub struct SpringForm {
+    /// Its asymmetric part k₂q_c²: demanded, the restoring force is stiffer on one side than the
+    /// other (a stop, a contact, a gap that closes one way; [`Verdict::Asymmetric`]).
+    pub asymmetric: SpringTerm,
+    /// A linear stiffness that changes with time, k₁′·t·q_c: demanded, the stiffness changes
+    /// during the record (a storey that degrades) rather than with amplitude
+    /// ([`Verdict::TimeVarying`]).
+    pub changing: SpringTerm,
 }
 
 /// The evidence for one candidate, every figure a difference of the same log-likelihood
@@ -134,9 +148,13 @@ pub enum Verdict {
     /// ([`Rival`]): one wrong parameter is the simpler answer than a missing effect, so nothing
     /// is named.
     MatchedByMismatch,
-    /// A symmetric spring whose data demand an asymmetric part beside it ([`Asymmetry`]): the
+    /// A symmetric spring whose data demand an asymmetric part beside it ([`SpringForm`]): the
     /// missing restoring force is one-sided, outside the catalog, so nothing is named.
     Asymmetric,
+    /// A symmetric spring whose data demand a stiffness that changes with time beside it
+    /// ([`SpringForm`]): the stiffness changes during the record, not with amplitude — outside
+    /// the catalog, so nothing is named.
+    TimeVarying,
     /// A lattice that is not there, or a step far below the noise.
     NoLattice,
     /// The refit failed (the message says why).
@@ -202,10 +220,10 @@ pub struct Diagnosis {
     /// For a named effect, or the one they unseated: the model's parameters that, refitted
     /// alone instead, explain the data as well ([`Rival`]).
     pub rivals: Vec<Rival>,
-    /// For a structure `cubic_stiffness` that was named, or set aside as
-    /// [`Verdict::Asymmetric`]: its asymmetric part refitted beside it ([`Asymmetry`]). `None`
-    /// otherwise, also when a rival unseated the spring first (the test is not run then).
-    pub asymmetry: Option<Asymmetry>,
+    /// For a structure `cubic_stiffness` that was named, or set aside as [`Verdict::Asymmetric`]
+    /// or [`Verdict::TimeVarying`]: its form tested beside it ([`SpringForm`]). `None` otherwise,
+    /// also when a rival unseated the spring first (the test is not run then).
+    pub spring: Option<SpringForm>,
 }
 
 impl Diagnosis {

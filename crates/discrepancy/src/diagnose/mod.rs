@@ -25,13 +25,15 @@
 //!    a wrong parameter is not a missing effect, and one parameter that explains as much as an
 //!    effect of one to three is the simpler answer. (For a sensor scale, the parameters that
 //!    scale its output alone are its exact equivalents and reported as such, not tried.)
-//! 8. a symmetric spring (a structure's `cubic_stiffness` at coordinate c) is not demanded to
-//!    be asymmetric: refitted with k₂q_c² beside its k₃q_c³ and a symmetric k₅q_c⁵, the
-//!    asymmetric part gains less than the threshold in sample or is not determined
-//!    ([`Asymmetry`], [`Verdict::Asymmetric`]). A stop, a contact or a gap on one side is
-//!    stiffer one way than the other — physics outside the catalog that a symmetric cubic would
-//!    otherwise stand in for; the quintic takes up what a symmetric spring of another form
-//!    leaves, so that only asymmetry is left for k₂.
+//! 8. a symmetric spring (a structure's `cubic_stiffness` at coordinate c) is demanded neither
+//!    to be asymmetric nor to change with time: refitted with k₂q_c² or with k₁′·t·q_c beside
+//!    its k₃q_c³ and a symmetric k₅q_c⁵, neither term is determined while gaining the
+//!    threshold in sample or lying 5 standard errors from zero ([`SpringForm`], [`Verdict::Asymmetric`], [`Verdict::TimeVarying`], module
+//!    `spring`). A stop, a contact or a gap on one side is stiffer one way than the other; a
+//!    storey that degrades changes its stiffness with time, which one free decay's falling
+//!    amplitude lets a hardening spring absorb — physics outside the catalog that a symmetric
+//!    cubic would otherwise stand in for; the quintic takes up what a symmetric spring of
+//!    another form leaves, so that only asymmetry, or change with time, is left for the term.
 //!
 //! Sensor quantization is a measurement model, not a force: it is named when the raw readings
 //! of a sensor lie on a lattice while the signal moves, with a step comparable to the noise or
@@ -46,8 +48,9 @@ mod quantized;
 mod report;
 mod residual;
 mod run;
+mod spring;
 
-pub use answer::{Asymmetry, Candidate, Diagnosis, EffectParameter, Evidence, Rival, Verdict};
+pub use answer::{Candidate, Diagnosis, EffectParameter, Evidence, Rival, SpringForm, SpringTerm, Verdict};
 pub use report::DiagnosisReport;
 
 pub use residual::{Band, ResidualStructure};
@@ -383,7 +386,7 @@ pub fn diagnose_observed(
     // set against a mismatch.
     let mut scale_equivalents = Vec::new();
     let mut rivals = Vec::new();
-    let mut asymmetry = None;
+    let mut spring = None;
     let chosen = (|| {
         let i = choose(&candidates, options.threshold)?;
         candidates[i].verdict = Verdict::Named;
@@ -406,8 +409,9 @@ pub fn diagnose_observed(
             candidates[i].verdict = Verdict::MatchedByMismatch;
             return None;
         }
-        // A symmetric spring whose data demand an asymmetric part: a one-sided force.
-        asymmetry = named::asymmetry(
+        // A symmetric spring whose data demand an asymmetric part (a one-sided force) or a
+        // stiffness that changes with time (a degradation): physics outside the catalog.
+        spring = spring::form(
             &candidates[i],
             trial,
             &reference.outcome.fitted,
@@ -416,9 +420,15 @@ pub fn diagnose_observed(
             options.threshold,
             |o| evidence::gain(&likelihoods(o), &reference_likelihoods),
         );
-        if asymmetry.as_ref().is_some_and(|a| a.demanded) {
-            candidates[i].verdict = Verdict::Asymmetric;
-            return None;
+        if let Some(form) = &spring {
+            let demanded = [(&form.asymmetric, Verdict::Asymmetric), (&form.changing, Verdict::TimeVarying)]
+                .into_iter()
+                .filter(|(term, _)| term.demanded)
+                .max_by(|(a, _), (b, _)| a.gain.total_cmp(&b.gain));
+            if let Some((_, verdict)) = demanded {
+                candidates[i].verdict = verdict;
+                return None;
+            }
         }
         Some(i)
     })();
@@ -451,7 +461,7 @@ pub fn diagnose_observed(
         threshold: options.threshold,
         scale_equivalents,
         rivals,
-        asymmetry,
+        spring,
     })
 }
 

@@ -1,11 +1,11 @@
 //! The named effect: which candidate is named ([`choose`]), the refit that frees what only the
 //! named effect determines ([`polish`]), the model parameters a named sensor scale cannot be
 //! told from ([`scale_equivalents_of`]), and those that explain the data as well ([`Rivals`]).
+//! A named spring's form is tested beside it in [`super::spring`].
 
-use super::answer::Asymmetry;
 use super::answer::last_error;
 use super::catalog::Trial;
-use super::{Candidate, EffectParameter, Rival, Verdict, mismatch, run};
+use super::{Candidate, Rival, Verdict, mismatch, run};
 use mem::Measurement;
 use models::FitOutcome;
 use models::Model;
@@ -164,83 +164,5 @@ pub(super) fn choose(candidates: &[Candidate], threshold: f64) -> Option<usize> 
             .filter(|(_, c)| best - held_out(c) < threshold)
             .min_by(|(_, a), (_, b)| a.evidence.delta_bic.total_cmp(&b.evidence.delta_bic))
             .map(|(i, _)| i)
-    })
-}
-
-/// The asymmetry test of a named structure `cubic_stiffness` at coordinate c ([`Asymmetry`]).
-/// A restoring force stiffer on one side than the other — a stop or contact on one side, a gap
-/// that closes one way — shifts the motion's centre and changes its frequency with amplitude: a
-/// symmetric cubic takes up the second alone. From the candidate's fit the spring is refitted to
-/// the fitter's own convergence, first as it is (k₃q_c³), then with a symmetric refinement of its
-/// form k₅q_c⁵ (`quintic_<c>`, within ±10 k_cc/q̂_c⁴), then with its asymmetric part k₂q_c² beside
-/// both (`quadratic_<c>`, within ±10 k_cc/q̂_c; k_cc and q̂_c from the model,
-/// [`super::catalog::structure::scales`]), each from the optimum before it. A term's gain is the
-/// difference of in-sample log-likelihoods (`gain`, each over the reference). The asymmetric part
-/// is demanded when it gains at least `threshold` beside the quintic and is determined: a spring
-/// whose form is not quite k₃q³ (a quintic in the truth, say) lets any one more term gain a
-/// little, which the symmetric refinement takes up; what is left for k₂ is asymmetry.
-/// `None` for any other candidate, or when a refit fails.
-pub(super) fn asymmetry(
-    candidate: &Candidate,
-    trial: &Trial,
-    reference: &Model,
-    free: &[String],
-    data: &Measurement,
-    threshold: f64,
-    gain: impl Fn(&FitOutcome) -> f64 + Sync,
-) -> Option<Asymmetry> {
-    let models::ModelEffect::Structure(structure::Effect::CubicStiffness {
-        coordinate,
-        quadratic: None,
-        quintic: None,
-        ..
-    }) = &trial.effect
-    else {
-        return None;
-    };
-    let fitted = candidate.model.as_ref()?;
-    let scales = super::catalog::structure::scales(reference.as_structure()?)
-        .into_iter()
-        .find(|s| s.coordinate == *coordinate)?;
-    let (quadratic, quintic) = (format!("quadratic_{coordinate}"), format!("quintic_{coordinate}"));
-    let mut from = reference.clone();
-    from.add_effect(
-        structure::Effect::CubicStiffness {
-            coordinate: coordinate.clone(),
-            coefficient: 0.0,
-            quadratic: Some(0.0),
-            quintic: Some(0.0),
-        }
-        .into(),
-    )
-    .ok()?;
-    for name in fitted.parameter_names() {
-        from.set(&name, fitted.value(&name).ok()?).ok()?;
-    }
-    for (name, bounds) in &trial.bounds {
-        from.set_bounds(name, *bounds).ok()?;
-    }
-    let limit = |power: i32| 10.0 * scales.k / scales.q.powi(power);
-    from.set_bounds(&quadratic, (-limit(1), limit(1))).ok()?;
-    from.set_bounds(&quintic, (-limit(4), limit(4))).ok()?;
-    // Each refit starts where the one before it ends.
-    let cubic: Vec<String> = free.iter().chain(&trial.freed).cloned().collect();
-    let symmetric: Vec<String> = cubic.iter().chain([&quintic]).cloned().collect();
-    let both: Vec<String> = symmetric.iter().chain([&quadratic]).cloned().collect();
-    let as_named = run::refit_to(&from, data, &cubic, None, 60, run::Precision::Optimum).ok()?;
-    let refined =
-        run::refit_to(&as_named.fitted, data, &symmetric, None, 60, run::Precision::Optimum).ok()?;
-    let asymmetric = run::refit_to(&refined.fitted, data, &both, None, 60, run::Precision::Optimum).ok()?;
-    let i = asymmetric.report.names.iter().position(|n| *n == quadratic)?;
-    let (added, control) = (gain(&asymmetric) - gain(&refined), gain(&refined) - gain(&as_named));
-    Some(Asymmetry {
-        parameter: EffectParameter {
-            name: quadratic.clone(),
-            value: asymmetric.report.parameters[i],
-            std_error: asymmetric.report.std_error(i),
-        },
-        gain: added,
-        symmetric_gain: control,
-        demanded: added >= threshold && mismatch::determined(&asymmetric, &quadratic),
     })
 }

@@ -41,9 +41,12 @@ pub struct DiagnosisReport<'a> {
     /// otherwise).
     pub rival_mismatches: &'a [super::Rival],
     /// For a structure `cubic_stiffness` that was named, or set aside as
-    /// [`Verdict::Asymmetric`]: its asymmetric part k₂q² refitted beside it, and whether the data
-    /// demand it; absent otherwise.
-    pub asymmetric_spring: Option<&'a super::Asymmetry>,
+    /// [`Verdict::Asymmetric`] or [`Verdict::TimeVarying`]: its asymmetric part k₂q² refitted
+    /// beside it, and whether the data demand it; absent otherwise.
+    pub asymmetric_spring: Option<&'a super::SpringTerm>,
+    /// For the same spring: a linear stiffness that changes with time, k₁′·t·q, refitted beside
+    /// it, and whether the data demand it; absent otherwise.
+    pub changing_spring: Option<&'a super::SpringTerm>,
 }
 
 impl Diagnosis {
@@ -137,12 +140,14 @@ impl Diagnosis {
                         self.mismatch_gain
                     ));
                 }
-                // The effect a mismatch unseated or the asymmetry test set aside, if one was; else
+                // The effect a mismatch unseated or the spring-form test set aside, if one was; else
                 // the best predictor held out.
-                let unseated = self
-                    .candidates
-                    .iter()
-                    .find(|c| matches!(c.verdict, Verdict::MatchedByMismatch | Verdict::Asymmetric));
+                let unseated = self.candidates.iter().find(|c| {
+                    matches!(
+                        c.verdict,
+                        Verdict::MatchedByMismatch | Verdict::Asymmetric | Verdict::TimeVarying
+                    )
+                });
                 if let Some(best) =
                     unseated.or_else(|| self.candidates.iter().find(|c| c.evidence.held_out.is_some()))
                 {
@@ -192,21 +197,41 @@ impl Diagnosis {
                                     if one { "it" } else { "them" }
                                 )
                             }
-                            Verdict::Asymmetric => match &self.asymmetry {
-                                Some(a) => format!(
-                                    "predictive on held-out blocks ({:.1} nats in sample), but the restoring force \
-                                     is stiffer on one side than the other: its asymmetric part `{}` = {:.4e}{} adds \
-                                     {:.1} nats beside it and a symmetric quintic term (which adds {:.1}) — a stop, \
-                                     a contact or a gap that closes one way, which the catalog's symmetric spring \
-                                     does not hold",
-                                    best.evidence.in_sample,
-                                    a.parameter.name,
-                                    a.parameter.value,
-                                    a.parameter.std_error.map_or(String::new(), |se| format!(" ± {se:.2e}")),
-                                    a.gain,
-                                    a.symmetric_gain
-                                ),
-                                None => "asymmetric".to_string(),
+                            Verdict::Asymmetric | Verdict::TimeVarying => match &self.spring {
+                                Some(form) => {
+                                    let (term, what) = if best.verdict == Verdict::Asymmetric {
+                                        (
+                                            &form.asymmetric,
+                                            "the restoring force is stiffer on one side than the other: its \
+                                             asymmetric part",
+                                        )
+                                    } else {
+                                        (
+                                            &form.changing,
+                                            "its stiffness changes with time in a way a symmetric spring's change \
+                                             with amplitude does not follow: a rate",
+                                        )
+                                    };
+                                    let kind = if best.verdict == Verdict::Asymmetric {
+                                        "a stop, a contact or a gap that closes one way, which the catalog's symmetric \
+                                         spring does not hold"
+                                    } else {
+                                        "a stiffness that degrades or recovers during the record, or another \
+                                         change the catalog's symmetric spring does not hold"
+                                    };
+                                    format!(
+                                        "predictive on held-out blocks ({:.1} nats in sample), but {what} `{}` = \
+                                         {:.4e}{} adds {:.1} nats beside it and a symmetric quintic term (which adds \
+                                         {:.1}) — {kind}",
+                                        best.evidence.in_sample,
+                                        term.parameter.name,
+                                        term.parameter.value,
+                                        term.parameter.std_error.map_or(String::new(), |se| format!(" ± {se:.2e}")),
+                                        term.gain,
+                                        term.symmetric_gain
+                                    )
+                                }
+                                None => format!("{:?}", best.verdict),
                             },
                             other => format!("{other:?}"),
                         }
@@ -236,7 +261,8 @@ impl Diagnosis {
             localisation: &self.localisation,
             equivalent_parameters: &self.scale_equivalents,
             rival_mismatches: &self.rivals,
-            asymmetric_spring: self.asymmetry.as_ref(),
+            asymmetric_spring: self.spring.as_ref().map(|f| &f.asymmetric),
+            changing_spring: self.spring.as_ref().map(|f| &f.changing),
         }
     }
 }

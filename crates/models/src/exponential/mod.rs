@@ -68,7 +68,8 @@ struct TorqueModel<'a> {
 }
 
 impl Forcing for TorqueModel<'_> {
-    fn at(&mut self, x: &[f64], with_derivatives: bool, out: &mut Forces) {
+    fn at(&mut self, _t: f64, x: &[f64], with_derivatives: bool, out: &mut Forces) {
+        // The rig's torques do not depend on time.
         let (servo, hub) = self.real.torques(x);
         out.reset(2, self.seeded.len());
         out.value.copy_from_slice(&[servo, hub]);

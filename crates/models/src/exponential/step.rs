@@ -82,8 +82,9 @@ impl Forces {
 
 /// A model's nonlinear forces.
 pub(crate) trait Forcing {
-    /// f at `x` into `out` (with ∂f/∂x and ∂f/∂P_i if `with_derivatives`; `out` is reused).
-    fn at(&mut self, x: &[f64], with_derivatives: bool, out: &mut Forces);
+    /// f at time `t` (the model's, from x(0)) and state `x` into `out` (with ∂f/∂x and ∂f/∂P_i
+    /// if `with_derivatives`; `out` is reused).
+    fn at(&mut self, t: f64, x: &[f64], with_derivatives: bool, out: &mut Forces);
 }
 
 /// Row-major small dense matrix.
@@ -195,6 +196,8 @@ impl Workspace {
 /// One step's matrices, flattened: Φ and ∂Φ/∂P_i column by column ([`square_mul_add`]), the
 /// force gains row by row ([`mul_add`]).
 struct Step {
+    /// The step's length \[s\].
+    h: f64,
     m: usize,
     phi: Vec<f64>,
     now: Vec<f64>,
@@ -217,6 +220,7 @@ impl Step {
             .map_err(|e| NonlinearError::Solver(format!("the step's exponential: {e}")))?;
         let zoh = &g.now + &g.next;
         Ok(Self {
+            h,
             m: lin.g.ncols(),
             phi: flat_columns(&g.phi),
             now: flat(&g.now),
@@ -232,9 +236,11 @@ impl Step {
         })
     }
 
-    /// One step of x (length n) and the sensitivities s (j columns of length n, stacked).
+    /// One step from time `t` of x (length n) and the sensitivities s (j columns of length n,
+    /// stacked).
     fn advance(
         &self,
+        t: f64,
         x: &mut [f64],
         s: &mut [f64],
         forcing: &mut dyn Forcing,
@@ -245,7 +251,7 @@ impl Step {
         let m = self.m;
         let j = if sensitivities { s.len() / n } else { 0 };
         let Workspace { phi_x, c, u, ua, a, da, t_x, t_a } = w;
-        forcing.at(x, sensitivities, t_x);
+        forcing.at(t, x, sensitivities, t_x);
         // c_i = Φ s_i + Φ_i x (shared by predictor and corrector), Φ x.
         phi_x.fill(0.0);
         square_mul_add(&self.phi, x, phi_x);
@@ -269,7 +275,7 @@ impl Step {
                 mul_add(&self.d_zoh[i], m, &t_x.value, dai);
             }
         }
-        forcing.at(a, sensitivities, t_a);
+        forcing.at(t + self.h, a, sensitivities, t_a);
         // Corrector.
         x.copy_from_slice(phi_x);
         mul_add(&self.now, m, &t_x.value, x);
@@ -332,12 +338,12 @@ pub(crate) fn integrate(
     if start > 0.0 {
         let sub = h / substeps as f64;
         let whole = (start / sub).floor() as usize;
-        for _ in 0..whole {
-            step.advance(&mut x, &mut s, forcing, wanted, &mut work);
+        for i in 0..whole {
+            step.advance(i as f64 * sub, &mut x, &mut s, forcing, wanted, &mut work);
         }
         let rest = start - whole as f64 * sub;
         if rest > 1e-12 * sub {
-            Step::new(lin, d, rest)?.advance(&mut x, &mut s, forcing, wanted, &mut work);
+            Step::new(lin, d, rest)?.advance(whole as f64 * sub, &mut x, &mut s, forcing, wanted, &mut work);
         }
     }
     // C and ∂C/∂P_i row by row (each output's sums in the order of its dot product).
@@ -349,7 +355,7 @@ pub(crate) fn integrate(
     let mut du = vec![0.0; m];
     for sample in 0..k {
         if lin.h.is_some() {
-            forcing.at(&x, wanted, &mut feed);
+            forcing.at(start + sample as f64 * h, &x, wanted, &mut feed);
         }
         for o in 0..p_out {
             let row = &c[o * n..(o + 1) * n];
@@ -375,8 +381,9 @@ pub(crate) fn integrate(
             }
         }
         if sample + 1 < k {
-            for _ in 0..substeps {
-                step.advance(&mut x, &mut s, forcing, wanted, &mut work);
+            let at = start + sample as f64 * h;
+            for i in 0..substeps {
+                step.advance(at + i as f64 * step.h, &mut x, &mut s, forcing, wanted, &mut work);
             }
             if !x.iter().all(|v| v.is_finite()) {
                 return Err(NonlinearError::Solver(format!(

@@ -39,11 +39,11 @@ struct StructureForces<'a> {
 }
 
 impl Forcing for StructureForces<'_> {
-    fn at(&mut self, x: &[f64], with_derivatives: bool, out: &mut Forces) {
+    fn at(&mut self, t: f64, x: &[f64], with_derivatives: bool, out: &mut Forces) {
         let m = self.laws.len();
         out.reset(m, self.free.len());
         for (v, law) in out.value.iter_mut().zip(&self.laws) {
-            *v = law.force(x, self.p);
+            *v = law.force(t, x, self.p);
         }
         if !with_derivatives {
             return;
@@ -55,14 +55,14 @@ impl Forcing for StructureForces<'_> {
             self.scratch[k].eps = 1.0;
             out.states.push(k);
             for law in &self.laws {
-                out.by_state.push(law.force(&self.scratch, &self.lifted).eps);
+                out.by_state.push(law.force(t, &self.scratch, &self.lifted).eps);
             }
             self.scratch[k].eps = 0.0;
         }
         for (i, &slot) in self.free.iter().enumerate().filter(|(i, _)| self.acts[*i]) {
             self.lifted[slot].eps = 1.0;
             for (o, law) in out.by_parameter[i * m..(i + 1) * m].iter_mut().zip(&self.laws) {
-                *o = law.force(&self.scratch, &self.lifted).eps;
+                *o = law.force(t, &self.scratch, &self.lifted).eps;
             }
             self.lifted[slot].eps = 0.0;
         }

@@ -18,9 +18,10 @@ pub struct ForceLaw {
 }
 
 impl ForceLaw {
-    /// The force at state `x` and parameters `p` (all of the model's).
-    pub fn force<D: Scalar>(&self, x: &[D], p: &[D]) -> D {
-        self.effect.force(x, self.n, self.coordinate, &p[self.start..])
+    /// The force at time `t` (from the release, x(0)), state `x` and parameters `p` (all of the
+    /// model's).
+    pub fn force<D: Scalar>(&self, t: f64, x: &[D], p: &[D]) -> D {
+        self.effect.force(t, x, self.n, self.coordinate, &p[self.start..])
     }
 
     /// The states it depends on: its coordinate's displacement and velocity.

@@ -188,6 +188,7 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
                     coefficient: 0.05 * k / (q * q),
                     quadratic: None,
                     quintic: None,
+                    rate: None,
                 },
                 format!("cubic_stiffness({c})"),
                 vec![(format!("cubic_{c}"), (-10.0 * k / (q * q), 10.0 * k / (q * q)))],
@@ -199,6 +200,7 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
                 coefficient: -0.05 * k / (q * q),
                 quadratic: None,
                 quintic: None,
+                rate: None,
             }),
         );
     }
