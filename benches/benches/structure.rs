@@ -2,7 +2,9 @@
 //! (2,001 samples, 5 free parameters, from the nominal file to the independent simulator's
 //! record), the same fit without the finite-difference check of the derivatives, and one
 //! evaluation of its expressions with their exact derivatives (A, C, x(0) and ∂/∂P over
-//! num-dual), which each Gauss–Newton iteration does once.
+//! num-dual), which each Gauss–Newton iteration does once; and the building with a nonlinear
+//! spring at q1 simulated by the exponential integrator with its sensitivities, with and without
+//! a stiffness that changes with time (the force then reads the time as well).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mem::LinearModel;
@@ -34,6 +36,34 @@ fn bench_structure(c: &mut Criterion) {
     let p: Vec<f64> = FREE.iter().map(|n| model.value(n).unwrap()).collect();
     group
         .bench_function("expressions/shear_building", |b| b.iter(|| exact.linearize(black_box(&p)).unwrap()));
+    // The fixture with a spring at q1, then with its rate k₁′·t·q1 too: 2,001 samples at 200 Hz,
+    // the five parameters and the spring's free.
+    let text = std::fs::read_to_string(fixture("shear_building.ron")).unwrap();
+    let with = |spring: &str| {
+        let file =
+            text.trim_end().trim_end_matches(')').to_string() + &format!("    effects: [{spring}],\n)\n");
+        Model::from_ron(&file, "building.ron").unwrap()
+    };
+    for (name, spring, free) in [
+        (
+            "respond/spring",
+            "CubicStiffness(coordinate: \"q1\", coefficient: 3e10, quintic: Some(5e13))",
+            vec!["k1", "k2", "k3", "alpha", "beta", "cubic_q1", "quintic_q1"],
+        ),
+        (
+            "respond/spring_with_rate",
+            "CubicStiffness(coordinate: \"q1\", coefficient: 3e10, quintic: Some(5e13), rate: Some(-2e4))",
+            vec!["k1", "k2", "k3", "alpha", "beta", "cubic_q1", "quintic_q1", "stiffness_rate_q1"],
+        ),
+    ] {
+        let model = with(spring);
+        let response = model.response(&free).unwrap();
+        let p: Vec<f64> = free.iter().map(|n| model.value(n).unwrap()).collect();
+        let mut out = expm::Response::zeros(2001, 2, free.len());
+        group.bench_function(name, |b| {
+            b.iter(|| response.respond(black_box(&p), &mem::Grid::free(0.005), &mut out).unwrap())
+        });
+    }
     group.finish();
 }
 

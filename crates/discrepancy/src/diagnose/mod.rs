@@ -28,12 +28,13 @@
 //! 8. a symmetric spring (a structure's `cubic_stiffness` at coordinate c) is demanded neither
 //!    to be asymmetric nor to change with time: refitted with k₂q_c² or with k₁′·t·q_c beside
 //!    its k₃q_c³ and a symmetric k₅q_c⁵, neither term is determined while gaining the
-//!    threshold in sample or lying 5 standard errors from zero ([`SpringForm`], [`Verdict::Asymmetric`], [`Verdict::TimeVarying`], module
-//!    `spring`). A stop, a contact or a gap on one side is stiffer one way than the other; a
-//!    storey that degrades changes its stiffness with time, which one free decay's falling
-//!    amplitude lets a hardening spring absorb — physics outside the catalog that a symmetric
-//!    cubic would otherwise stand in for; the quintic takes up what a symmetric spring of
-//!    another form leaves, so that only asymmetry, or change with time, is left for the term.
+//!    threshold in sample or lying 5 standard errors from zero ([`SpringForm`],
+//!    [`Verdict::Asymmetric`], [`Verdict::TimeVarying`], module `spring`). A stop, a contact
+//!    or a gap on one side is stiffer one way than the other; a storey that degrades changes
+//!    its stiffness with time, which one free decay's falling amplitude lets a hardening
+//!    spring absorb — physics outside the catalog that a symmetric cubic would otherwise stand
+//!    in for; the quintic takes up what a symmetric spring of another form leaves, so that
+//!    only asymmetry, or change with time, is left for the term.
 //!
 //! Sensor quantization is a measurement model, not a force: it is named when the raw readings
 //! of a sensor lie on a lattice while the signal moves, with a step comparable to the noise or
@@ -183,7 +184,7 @@ pub fn diagnose_observed(
     };
     let folds = Folds::new(&data);
     observer.progress("baseline", 0, 2);
-    let baseline = Fitted::converged(wrapped, &data, &options.free, 100)?;
+    let baseline = Fitted::full(wrapped, &data, &options.free, 100)?;
     observer.progress("baseline", 1, 2);
     // The reference every candidate is scored against: the baseline with the model's own
     // linear parameters free too, so that a mismatch is absorbed before any effect is tried.
