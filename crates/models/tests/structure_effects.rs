@@ -104,6 +104,27 @@ fn forces_at_coordinates_match_an_independent_runge_kutta() {
     assert!(apart > 100.0 * worst, "the effects change the response by {apart:e} only");
 }
 
+/// A record that starts after the release: the forces read the time since the release (the
+/// spring's rate k₁′·t·q1), not since the first sample.
+#[test]
+fn a_late_first_sample_reads_the_time_since_the_release() {
+    let model = with_effects(EFFECTS);
+    let (k, h, late) = (200, 0.005, 60);
+    let reference = rk4(late + k, h, 3e10, (800.0, 2.0), (150.0, 0.01));
+    let response = model.response(&[]).unwrap();
+    let mut out = Response::zeros(k, 2, 0);
+    let grid = Grid { start: late as f64 * h, interval: h, inputs: None };
+    response.respond(&[], &grid, &mut out).expect("it simulates");
+    let peak = reference.iter().map(|r| r[1].abs()).fold(0.0, f64::max);
+    let worst = (0..k)
+        .map(|s| {
+            let r = &reference[late + s];
+            (out.outputs[(s, 0)] - r[0]).abs().max((out.outputs[(s, 1)] - r[1]).abs())
+        })
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-4 * peak, "worst {worst:e} against a peak {peak:e}");
+}
+
 #[test]
 fn an_acceleration_output_reads_the_forces_too() {
     let text = FILE.replace(

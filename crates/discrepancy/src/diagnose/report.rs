@@ -199,25 +199,22 @@ impl Diagnosis {
                             }
                             Verdict::Asymmetric | Verdict::TimeVarying => match &self.spring {
                                 Some(form) => {
-                                    let (term, what) = if best.verdict == Verdict::Asymmetric {
+                                    let (term, what, kind) = if best.verdict == Verdict::Asymmetric {
                                         (
                                             &form.asymmetric,
                                             "the restoring force is stiffer on one side than the other: its \
                                              asymmetric part",
+                                            "a stop, a contact or a gap that closes one way, which the catalog's \
+                                             symmetric spring does not hold",
                                         )
                                     } else {
                                         (
                                             &form.changing,
                                             "its stiffness changes with time in a way a symmetric spring's change \
                                              with amplitude does not follow: a rate",
+                                            "a stiffness that degrades or recovers during the record, or another \
+                                             change the catalog's symmetric spring does not hold",
                                         )
-                                    };
-                                    let kind = if best.verdict == Verdict::Asymmetric {
-                                        "a stop, a contact or a gap that closes one way, which the catalog's symmetric \
-                                         spring does not hold"
-                                    } else {
-                                        "a stiffness that degrades or recovers during the record, or another \
-                                         change the catalog's symmetric spring does not hold"
                                     };
                                     format!(
                                         "predictive on held-out blocks ({:.1} nats in sample), but {what} `{}` = \
