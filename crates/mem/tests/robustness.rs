@@ -204,6 +204,66 @@ fn a_parameter_held_on_its_bound_gets_a_one_sided_interval_and_a_warning() {
     assert!(matches!(report.statistics.intervals[1], Interval::Symmetric { .. }));
 }
 
+/// The oscillator with its damping fixed: k alone is free.
+struct OscillatorWithDamping(f64);
+impl LinearModel for OscillatorWithDamping {
+    type Error = std::convert::Infallible;
+    fn n_states(&self) -> usize {
+        2
+    }
+    fn n_params(&self) -> usize {
+        1
+    }
+    fn output_names(&self) -> Vec<String> {
+        Oscillator.output_names()
+    }
+    fn linearize(&self, p: &[f64]) -> Result<Linearized, Self::Error> {
+        let mut full = Oscillator.linearize(&[self.0, p[0]])?;
+        full.da.remove(0);
+        Ok(full)
+    }
+}
+
+/// A test that holds a bound parameter at its estimate conditions on it: k's standard error
+/// given c (held on its bound) is the one a fit with c fixed there reports, while the plain
+/// standard error carries c's local uncertainty and is wider.
+#[test]
+fn holding_a_bound_parameter_gives_the_standard_error_of_a_fit_without_it() {
+    let model = LinearResponse(Oscillator);
+    let data = add_noise(&simulate_measurement(&model, &[0.2, 4.0], 0.05, 400, 0.0, 0), 0.01, 9);
+    let params = vec![
+        Parameter::new("c", 0.5).with_bounds(0.3, 1.0),
+        Parameter::new("k", 3.5).with_bounds(0.1, 100.0),
+    ];
+    let fit = Fit::new().with_covariance(mem::Covariance::White);
+    let report = fit.run(&Problem::new(vec![Experiment::new(&model, &data)], params).unwrap()).unwrap();
+    assert_eq!(report.on_bound[0], Some(Side::Lower));
+    let stats = &report.statistics;
+    assert!(stats.covariance[(0, 1)].is_nan(), "the reported covariance blanks a bound row");
+    assert!(stats.local_covariance[(0, 0)] > 0.0 && stats.local_covariance[(0, 1)].is_finite());
+    let plain = report.std_error(1).unwrap();
+    let held = stats.conditional_std_error(1, &[0]).unwrap();
+    let fixed_model = LinearResponse(OscillatorWithDamping(0.3));
+    let fixed = fit
+        .run(
+            &Problem::new(
+                vec![Experiment::new(&fixed_model, &data)],
+                vec![Parameter::new("k", report.parameters[1])],
+            )
+            .unwrap(),
+        )
+        .unwrap();
+    assert!((fixed.parameters[0] / report.parameters[1] - 1.0).abs() < 1e-6, "{fixed}");
+    let want = fixed.std_error(0).unwrap();
+    // The two fits' σ̂² differ only by their degrees of freedom, (m − 1)/(m − 2).
+    assert!((held / want - 1.0).abs() < 5e-3, "held {held} vs fixed {want}");
+    assert!(plain > held, "plain {plain} vs held {held}");
+    // Holding nothing, or the parameter itself, is the plain standard error.
+    assert_eq!(stats.conditional_std_error(1, &[]), Some(plain));
+    assert_eq!(stats.conditional_std_error(1, &[1]), Some(plain));
+    assert_eq!(stats.conditional_std_error(0, &[1]), None);
+}
+
 #[test]
 fn a_start_outside_the_bounds_is_refused_naming_the_parameter() {
     let model = LinearResponse(Oscillator);

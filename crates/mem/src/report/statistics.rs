@@ -20,6 +20,7 @@ use crate::solve::StepSolver;
 use crate::stats::{lag_one, ljung_box, t_quantile_975};
 use crate::{MemError, Problem};
 use faer::Mat;
+use faer::linalg::solvers::Solve;
 use serde::Serialize;
 
 /// Ljung–Box p-value below which a residual series counts as correlated.
@@ -88,6 +89,12 @@ pub struct Statistics {
     /// The covariance (j × j; rows and columns of undetermined or bound parameters are NaN).
     #[serde(serialize_with = "matrix")]
     pub covariance: Mat<f64>,
+    /// The same covariance with the rows and columns of parameters held on a bound kept: their
+    /// local, linearised uncertainty as if they were free (NaN only where undetermined). Not an
+    /// interval for them (a bound parameter's is one-sided); it is what a test that holds such a
+    /// parameter at its estimate conditions on ([`Statistics::conditional_std_error`]).
+    #[serde(skip)]
+    pub local_covariance: Mat<f64>,
     /// √diag(covariance); None where the data do not determine the parameter or it is held on
     /// a bound.
     pub std_errors: Vec<Option<f64>>,
@@ -219,11 +226,21 @@ pub(crate) fn analyse(
             intervals.push(Interval::Symmetric { lower: p[i] - t * se, upper: p[i] + t * se });
         }
     }
+    let blank = |m: &mut Mat<f64>, i: usize| {
+        for l in 0..j {
+            m[(i, l)] = f64::NAN;
+            m[(l, i)] = f64::NAN;
+        }
+    };
+    let mut local_covariance = covariance.clone();
     for i in 0..j {
+        let local = covariance[(i, i)];
+        let held_but_determined =
+            on_bound[i].is_some() && !undetermined[i] && local.is_finite() && local > 0.0;
         if std_errors[i].is_none() {
-            for l in 0..j {
-                covariance[(i, l)] = f64::NAN;
-                covariance[(l, i)] = f64::NAN;
+            blank(&mut covariance, i);
+            if !held_but_determined {
+                blank(&mut local_covariance, i);
             }
         }
     }
@@ -237,12 +254,41 @@ pub(crate) fn analyse(
         residual_variance: variance,
         degrees_of_freedom: dof,
         covariance,
+        local_covariance,
         std_errors,
         intervals,
         correlation,
         series: noise.clone(),
     };
     Ok((statistics, noise))
+}
+
+impl Statistics {
+    /// The standard error of parameter `i` with the parameters `held` fixed at their estimates:
+    /// σ²_i|H = Σ_ii − Σ_iH Σ_HH⁻¹ Σ_Hi, a Schur complement of the covariance (the covariance
+    /// of a fit in which H were not free, to first order). A held parameter on a bound is
+    /// conditioned on through its local row ([`Statistics::local_covariance`]): holding it at
+    /// the bound is what the fit did. Undetermined held parameters are left out (their rows carry
+    /// no information). None where `i` itself has no standard error.
+    pub fn conditional_std_error(&self, i: usize, held: &[usize]) -> Option<f64> {
+        let se = self.std_errors.get(i).copied().flatten()?;
+        let cov = &self.local_covariance;
+        let usable = |h: usize| h != i && h < cov.nrows() && cov[(h, h)].is_finite() && cov[(h, h)] > 0.0;
+        let held: Vec<usize> = held.iter().copied().filter(|&h| usable(h)).collect();
+        if held.is_empty() {
+            return Some(se);
+        }
+        let k = held.len();
+        let hh = Mat::<f64>::from_fn(k, k, |a, b| cov[(held[a], held[b])]);
+        let hi = Mat::<f64>::from_fn(k, 1, |a, _| cov[(held[a], i)]);
+        if (0..k).any(|a| !hi[(a, 0)].is_finite() || (0..k).any(|b| !hh[(a, b)].is_finite())) {
+            return Some(se);
+        }
+        let x = hh.partial_piv_lu().solve(&hi);
+        let explained: f64 = (0..k).map(|a| hi[(a, 0)] * x[(a, 0)]).sum();
+        let conditional = se * se - explained;
+        if explained.is_finite() && conditional > 0.0 { Some(conditional.sqrt()) } else { Some(se) }
+    }
 }
 
 /// ‖(I − H)s_i‖², s_iᵀr for the column i against the free columns.
