@@ -184,7 +184,7 @@ pub fn diagnose_observed(
     };
     let folds = Folds::new(&data);
     observer.progress("baseline", 0, 2);
-    let baseline = Fitted::full(wrapped, &data, &options.free, 100)?;
+    let baseline = Fitted::converged(wrapped, &data, &options.free, 100)?;
     observer.progress("baseline", 1, 2);
     // The reference every candidate is scored against: the baseline with the model's own
     // linear parameters free too, so that a mismatch is absorbed before any effect is tried.
