@@ -20,10 +20,26 @@ pub struct EffectParameter {
     pub std_error: Option<f64>,
 }
 
+/// A linear term a rival adds to the model, which lacks it ([`Rival::adds`]).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum AddedTerm {
+    /// A linear spring at the slewing rig's hub (`hub_stiffness`).
+    HubSpring,
+    /// A linear damper at a structure's coordinate (`drag_<coordinate>` with exponent 1): damping
+    /// distributed otherwise than the model's (Rayleigh damping fixes every mode's ratio from
+    /// two numbers).
+    LinearDamper {
+        /// The coordinate.
+        coordinate: String,
+    },
+}
+
 /// A model parameter that, refitted alone in place of a named effect, explains the data as well
 /// (its in-sample gain within the held-out threshold of the effect's, or more): a mismatch of it
-/// is an answer these data do not rule out. On the slewing rig it may also be a linear spring at
-/// the hub that the model lacks (`hub_stiffness`, [`Rival::added`]).
+/// is an answer these data do not rule out. It may also be a linear term the model lacks
+/// ([`Rival::adds`]): a spring at the slewing rig's hub, a damper at a structure's coordinate.
 #[derive(Clone, Debug, Serialize)]
 pub struct Rival {
     /// Parameter name (`length`, …).
@@ -36,18 +52,24 @@ pub struct Rival {
     pub std_error: Option<f64>,
     /// In-sample gain of that refit over the reference (nats), to set against the effect's.
     pub in_sample: f64,
-    /// Whether the parameter is not the model's own: the effect carrying it (a linear spring at
-    /// the hub) was added at zero to try it.
+    /// Whether the parameter is not the model's own: the effect carrying it was added at zero
+    /// to try it ([`Rival::adds`] says which).
     pub added: bool,
+    /// The linear term added to try it, if the model lacked it.
+    pub adds: Option<AddedTerm>,
 }
 
 impl Rival {
     /// `name`, and for an added parameter what it is.
     pub(super) fn described(&self) -> String {
-        if self.added {
-            format!("`{}` (a linear spring at the hub, absent from the model)", self.name)
-        } else {
-            format!("`{}`", self.name)
+        match &self.adds {
+            Some(AddedTerm::HubSpring) => {
+                format!("`{}` (a linear spring at the hub, absent from the model)", self.name)
+            }
+            Some(AddedTerm::LinearDamper { coordinate }) => {
+                format!("`{}` (a linear damper at {coordinate}, absent from the model)", self.name)
+            }
+            None => format!("`{}`", self.name),
         }
     }
 

@@ -3,6 +3,8 @@
 //! time, [`secondary_mismatch_parameters`]), with the ranges they are refitted in, and those a
 //! named effect is set against alone ([`rival_parameters`]).
 
+use super::answer::AddedTerm;
+use super::catalog::structure::scales;
 use models::{FitOutcome, Model, ModelEffect};
 use plant::{ParamId, SlewingModel};
 
@@ -93,8 +95,9 @@ pub struct RivalTrial {
     pub name: String,
     /// The range it is refitted in.
     pub bounds: (f64, f64),
-    /// The effect added (at zero strength) to make the parameter exist, if the model lacks it.
-    pub adds: Option<ModelEffect>,
+    /// The effect added (at zero strength) to make the parameter exist, if the model lacks it,
+    /// and the term it is.
+    pub adds: Option<(ModelEffect, AddedTerm)>,
 }
 
 /// The model's own parameters, not refitted, that a named effect is tried against as a
@@ -108,6 +111,13 @@ pub struct RivalTrial {
 /// torque the model lacks — gravity on a tilted axis, cables, a centring spring — moves the
 /// servo's settling point and its closed-loop frequency as a low, damping-coupled mode can, with
 /// one parameter for the mode's three.
+///
+/// For a second-order structure also a linear damper at each coordinate that has no drag
+/// (`drag_<c>` with exponent 1, within ± twice the model's diagonal damping there, at least 1 %
+/// critical): damping distributed otherwise than the model's — Rayleigh damping sets every
+/// mode's ratio from two numbers — leaves a decay a drag or a dry friction at one storey can
+/// shave, and an amplitude-dependent force is named only where the data demand more than a
+/// linear one.
 pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
     let named = |ids: Vec<(ParamId, (f64, f64))>| {
         ids.into_iter()
@@ -128,7 +138,10 @@ pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
                 all.push(RivalTrial {
                     name: ParamId::HubStiffness.name(),
                     bounds: (-servo, servo),
-                    adds: Some(plant::Effect::CubicStiffness { coefficient: 0.0, linear: Some(0.0) }.into()),
+                    adds: Some((
+                        plant::Effect::CubicStiffness { coefficient: 0.0, linear: Some(0.0) }.into(),
+                        AddedTerm::HubSpring,
+                    )),
                 });
             }
             all
@@ -139,10 +152,37 @@ pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
                 let v = m.value(&n).ok().filter(|v| *v != 0.0 && v.is_finite())?;
                 Some((n, around(v, 0.3)))
             }));
-            bounds.into_iter().map(|(name, bounds)| RivalTrial { name, bounds, adds: None }).collect()
+            let mut all: Vec<RivalTrial> =
+                bounds.into_iter().map(|(name, bounds)| RivalTrial { name, bounds, adds: None }).collect();
+            all.extend(linear_dampers(m));
+            all
         }
     };
     all.into_iter().filter(|t| !refitted.contains(&t.name)).collect()
+}
+
+/// A linear damper at each coordinate of a second-order structure that has no drag there
+/// ([`rival_parameters`]).
+fn linear_dampers(model: &structure::StructureModel) -> Vec<RivalTrial> {
+    let outputs = model.output_names();
+    scales(model)
+        .into_iter()
+        .filter_map(|s| {
+            let effect =
+                structure::Effect::Drag { coordinate: s.coordinate.clone(), coefficient: 0.0, exponent: 1.0 };
+            let has_drag = model
+                .effects()
+                .iter()
+                .any(|have| have.kind() == effect.kind() && have.target() == effect.target());
+            let (name, _) = effect.parameters(&outputs).into_iter().next().filter(|_| !has_drag)?;
+            let c = 2.0 * s.viscous / s.v;
+            Some(RivalTrial {
+                name,
+                bounds: (-c, c),
+                adds: Some((effect.into(), AddedTerm::LinearDamper { coordinate: s.coordinate })),
+            })
+        })
+        .collect()
 }
 
 /// The range within `share` of `v` on either side, ordered for a negative `v` too.
@@ -168,7 +208,46 @@ pub fn with_mismatch_bounds(mut model: Model) -> Model {
 
 #[cfg(test)]
 mod tests {
-    use super::{Model, rival_parameters};
+    use super::{AddedTerm, Model, rival_parameters};
+
+    /// A structure's rivals include a linear damper at each coordinate without a drag, within
+    /// ± twice the file's diagonal damping there: D = αM + βK with α 0.375, β 1.25·10⁻³, masses
+    /// 10³ kg and storey stiffnesses 2.5, 2.25, 1.875 MN/m give D₁₁ = 375 + 5,937.5 and
+    /// D₃₃ = 375 + 2,343.75 N·s/m.
+    #[test]
+    fn a_damper_at_each_storey_is_tried_where_the_structure_has_no_drag() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/shear_building.ron");
+        let text = std::fs::read_to_string(path).unwrap();
+        let model = Model::from_ron(&text, "shear_building.ron").unwrap();
+        let rivals = rival_parameters(&model, &["k1".into(), "k2".into(), "k3".into()]);
+        let damper = |c: &str| rivals.iter().find(|r| r.name == format!("drag_{c}"));
+        for (c, d) in [("q1", 6_312.5), ("q3", 2_718.75)] {
+            let r = damper(c).expect("tried");
+            assert!(
+                (r.bounds.0 + 2.0 * d).abs() < 1e-6 && (r.bounds.1 - 2.0 * d).abs() < 1e-6,
+                "{c}: {:?}",
+                r.bounds
+            );
+            let (effect, term) = r.adds.clone().expect("added");
+            assert_eq!(term, AddedTerm::LinearDamper { coordinate: c.into() });
+            let mut with = model.clone();
+            with.add_effect(effect).unwrap();
+            assert_eq!(with.value(&format!("drag_exponent_{c}")).unwrap(), 1.0);
+            assert_eq!(with.value(&format!("drag_{c}")).unwrap(), 0.0);
+        }
+        assert!(damper("q2").is_some());
+        // Not where the model has a drag already.
+        let dragged = Model::from_ron(
+            &text.replace(
+                "    outputs: [",
+                "    effects: [Drag(coordinate: \"q2\", coefficient: 10.0, exponent: 2.0)],\n    outputs: [",
+            ),
+            "shear_building.ron",
+        )
+        .unwrap();
+        let rivals = rival_parameters(&dragged, &[]);
+        assert!(!rivals.iter().any(|r| r.name == "drag_q2") && rivals.iter().any(|r| r.name == "drag_q1"));
+    }
 
     fn paper_model(edit: impl Fn(String) -> String) -> Model {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/slewing.ron");
@@ -193,7 +272,7 @@ mod tests {
         assert!(spring.adds.is_some());
         assert!(rivals.iter().filter(|r| r.name != "hub_stiffness").all(|r| r.adds.is_none()));
         let mut with = model.clone();
-        with.add_effect(spring.adds.clone().unwrap()).unwrap();
+        with.add_effect(spring.adds.clone().unwrap().0).unwrap();
         assert_eq!(with.value("hub_stiffness").unwrap(), 0.0);
         assert_eq!(with.value("cubic_stiffness").unwrap(), 0.0);
         assert!(!rival_parameters(&with, &[]).iter().any(|r| r.name == "hub_stiffness"));

@@ -51,7 +51,9 @@ mod residual;
 mod run;
 mod spring;
 
-pub use answer::{Candidate, Diagnosis, EffectParameter, Evidence, Rival, SpringForm, SpringTerm, Verdict};
+pub use answer::{
+    AddedTerm, Candidate, Diagnosis, EffectParameter, Evidence, Rival, SpringForm, SpringTerm, Verdict,
+};
 pub use report::DiagnosisReport;
 
 pub use residual::{Band, ResidualStructure};

@@ -91,7 +91,7 @@ impl Rivals<'_> {
             .filter_map(|t| {
                 let name = &t.name;
                 let mut from = self.reference.clone();
-                if let Some(effect) = &t.adds {
+                if let Some((effect, _)) = &t.adds {
                     from.add_effect(effect.clone()).ok()?;
                 }
                 let reference_value = from.value(name).ok()?;
@@ -107,6 +107,7 @@ impl Rivals<'_> {
                     std_error: outcome.report.std_error(i),
                     in_sample,
                     added: t.adds.is_some(),
+                    adds: t.adds.as_ref().map(|(_, term)| term.clone()),
                 })
             })
             .collect::<Vec<_>>();

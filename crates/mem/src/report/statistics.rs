@@ -12,6 +12,12 @@
 //!   into the box, from the linearised profile Δ(d) = −2g d + e d² (g = s_iᵀr, e = ‖(I − H)s_i‖²,
 //!   H the projection on the other free columns) against σ̂²·χ²₁(0.90) = σ̂²·2.706 (the boundary
 //!   case's ½χ²₀ + ½χ²₁ law).
+//! * **Conditional standard errors**: σ²_i|H = Σ_ii − Σ_iH Σ_HH⁻¹ Σ_Hi, parameter i's variance
+//!   with the parameters H fixed at their estimates (a Schur complement; for independent errors,
+//!   to first order the variance a fit without H free would report; under the AR(1) sandwich
+//!   the conditional variance of the same estimate). A parameter held on a bound is conditioned on
+//!   through its local row, which the reported covariance blanks and
+//!   [`Statistics::local_covariance`] keeps.
 
 use super::Side;
 use crate::evaluate::{Evaluation, RowLayout};
@@ -265,8 +271,8 @@ pub(crate) fn analyse(
 
 impl Statistics {
     /// The standard error of parameter `i` with the parameters `held` fixed at their estimates:
-    /// σ²_i|H = Σ_ii − Σ_iH Σ_HH⁻¹ Σ_Hi, a Schur complement of the covariance (the covariance
-    /// of a fit in which H were not free, to first order). A held parameter on a bound is
+    /// σ²_i|H = Σ_ii − Σ_iH Σ_HH⁻¹ Σ_Hi, a Schur complement of the covariance (for independent
+    /// errors, to first order the variance of a fit in which H were not free). A held parameter on a bound is
     /// conditioned on through its local row ([`Statistics::local_covariance`]): holding it at
     /// the bound is what the fit did. Undetermined held parameters are left out (their rows carry
     /// no information). None where `i` itself has no standard error.
