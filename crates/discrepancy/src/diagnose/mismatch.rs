@@ -4,7 +4,7 @@
 //! named effect is set against alone ([`rival_parameters`]).
 
 use super::answer::AddedTerm;
-use super::catalog::structure::scales;
+use super::catalog::structure::{has_effect, scales};
 use models::{FitOutcome, Model, ModelEffect};
 use plant::{ParamId, SlewingModel};
 
@@ -170,11 +170,10 @@ fn linear_dampers(model: &structure::StructureModel) -> Vec<RivalTrial> {
         .filter_map(|s| {
             let effect =
                 structure::Effect::Drag { coordinate: s.coordinate.clone(), coefficient: 0.0, exponent: 1.0 };
-            let has_drag = model
-                .effects()
-                .iter()
-                .any(|have| have.kind() == effect.kind() && have.target() == effect.target());
-            let (name, _) = effect.parameters(&outputs).into_iter().next().filter(|_| !has_drag)?;
+            if has_effect(model, &effect) {
+                return None;
+            }
+            let (name, _) = effect.parameters(&outputs).into_iter().next()?;
             let c = 2.0 * s.viscous / s.v;
             Some(RivalTrial {
                 name,

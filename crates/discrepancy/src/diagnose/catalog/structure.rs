@@ -236,11 +236,17 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
     }
     // Effects the model has are not tried again (a second mode is not offered either).
     out.retain(|t| match &t.effect {
-        models::ModelEffect::Structure(e) => !model.effects().iter().any(|have| {
-            have.kind() == e.kind()
-                && (have.target() == e.target() || e.kind() == structure::EffectKind::UnmodeledMode)
-        }),
+        models::ModelEffect::Structure(e) => !has_effect(model, e),
         models::ModelEffect::Slewing(_) => false,
     });
     out
+}
+
+/// Whether the model already has an effect of `effect`'s kind where it acts (for an unmodeled
+/// mode, anywhere: a second mode is not offered).
+pub(in crate::diagnose) fn has_effect(model: &StructureModel, effect: &Effect) -> bool {
+    model.effects().iter().any(|have| {
+        have.kind() == effect.kind()
+            && (have.target() == effect.target() || effect.kind() == structure::EffectKind::UnmodeledMode)
+    })
 }
