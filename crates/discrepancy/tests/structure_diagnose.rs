@@ -36,6 +36,24 @@ fn nothing_hidden_is_none_in_white_and_coloured_noise() {
     assert_eq!(named("null_coloured"), "none");
 }
 
+/// One reading of the null record's q1 (at 3.5 s) thrown 0.5 m off, 50× the signal: a glitch,
+/// not a sensor that rounds. It used to set the range the lattice was looked for on, so that
+/// every other reading lay within one "step" of range/8 and q1 was named quantized with a step
+/// 27× the noise.
+#[test]
+fn a_glitch_in_one_reading_is_not_a_quantized_sensor() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures");
+    let model = Model::load(std::path::Path::new(&format!("{root}/shear_building.ron"))).unwrap();
+    let path = format!("{root}/independent/effects/null.csv");
+    let read = mem::Measurement::read_csv(std::path::Path::new(&path)).unwrap();
+    let at = read.times().iter().position(|t| (t - 3.5).abs() < 1e-9).unwrap();
+    let mut values = read.values().clone();
+    values[(at, 0)] += 0.5;
+    let data = mem::Measurement::new(read.names().to_vec(), read.start(), read.interval(), values).unwrap();
+    let d = diagnose(&model, &data, &DiagnoseOptions::new(&["k1", "k2", "k3", "alpha", "beta"])).unwrap();
+    assert!(d.named().is_none(), "named {:?}", d.named().map(|c| &c.label));
+}
+
 /// Modal damping ratios 1.5 %, 4.5 % and 2 %, which Rayleigh damping (convex in the frequency)
 /// cannot give: a mismatch of the model's own damping, not an effect.
 #[test]

@@ -1,7 +1,21 @@
 //! The lattice in the raw readings themselves: exact (noise before the quantizer) or blurred
 //! (noise after it), found on the first half of the moving samples and confirmed on the second.
 
-use super::{batch_z, golden_max, moving};
+use super::{batch_z, extent, golden_max, moving};
+
+/// The levels the moving samples must occupy for a blurred lattice to be confirmed on them
+/// ([`occupied_levels`]).
+const MIN_LEVELS: usize = 4;
+
+/// The levels c + jΔ of a lattice of phase φ (c = φΔ/2π) that hold at least a two-hundredth of
+/// `values` (and at least three of them), each reading counted at its nearest level.
+fn occupied_levels(values: &[f64], step: f64, phase: f64) -> usize {
+    let offset = phase / (2.0 * std::f64::consts::PI);
+    let mut levels: Vec<i64> = values.iter().map(|v| (v / step - offset).round() as i64).collect();
+    levels.sort_unstable();
+    let enough = (values.len() / 200).max(3);
+    levels.chunk_by(|a, b| a == b).filter(|run| run.len() >= enough).count()
+}
 
 /// The step of an exact lattice, with the number of distinct levels, if every value is
 /// c + jΔ to 10⁻⁶Δ (plus 10⁻¹² of the largest magnitude) and there are at least `min_levels`
@@ -61,13 +75,18 @@ fn rayleigh(values: &[f64], step: f64) -> f64 {
 /// of the signal's distribution in one half (its turning points, its approach to rest) does
 /// not hold its phase in the other, where the amplitudes differ.
 ///
+/// The range is taken without the few most extreme readings (the ⌈n/200⌉ at each end), and
+/// the moving samples must occupy at least four levels, each holding a two-hundredth of them
+/// (and at least three): a glitch far outside the signal, or a burst of them, would otherwise
+/// stretch the range so that every other reading lies within one "step" of range/8, a lattice
+/// of two levels that holds its phase anywhere.
+///
 /// Returns (step, z, samples confirmed on, blur σ) if z ≥ `threshold`.
 pub fn blurred(values: &[f64], min_step: f64, threshold: f64) -> Option<(f64, f64, usize, f64)> {
     let samples = moving(values);
     let n = samples.len();
     let (first, second) = samples.split_at(n / 2);
-    let (lo, hi) =
-        samples.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(*v), b.max(*v)));
+    let (lo, hi) = extent(&samples)?;
     let max_step = (hi - lo) / 40.0;
     if n < 200 || !(max_step > min_step && min_step > 0.0) {
         return None;
@@ -95,6 +114,12 @@ pub fn blurred(values: &[f64], min_step: f64, threshold: f64) -> Option<(f64, f6
     }
     let (c, s) = phasor(first, step);
     let phase = s.atan2(c);
+    // A lattice is seen while the signal crosses its levels: readings that keep to a level or
+    // two (all but some glitches, say) crowd there whatever the quantizer. (The confirming half
+    // alone may hold only the last few levels of a coarse quantizer's approach to rest.)
+    if occupied_levels(&samples, step, phase) < MIN_LEVELS {
+        return None;
+    }
     let projections: Vec<f64> =
         second.iter().map(|v| (2.0 * std::f64::consts::PI * v / step - phase).cos()).collect();
     let (mean, z) = batch_z(&projections);
@@ -133,6 +158,57 @@ mod tests {
         assert!(detect(&printed, &exact_fit, 8.0).is_none_or(|l| !l.matters()));
         let adc = detect(&adc, &clean, 8.0).expect("the ADC lattice");
         assert!(adc.matters());
+    }
+
+    #[test]
+    fn a_glitch_is_not_a_lattice_and_does_not_hide_one() {
+        // One reading of a continuous record replaced by a glitch far outside the signal: the
+        // rest of the readings lie within one "step" of range/8, which would make them a
+        // lattice of two levels. Readings that do not cross several steps are no lattice.
+        let mut rng = rand::rngs::StdRng::seed_from_u64(11);
+        let clean = decay(3000);
+        let noisy: Vec<f64> =
+            clean.iter().map(|v| v + 0.002 * rng.sample::<f64, _>(rand_distr::StandardNormal)).collect();
+        for (at, glitch) in [(1400, 1000.0), (1400, 10.0), (2500, -30.0), (5, 50.0)] {
+            let mut y = noisy.clone();
+            y[at] = glitch;
+            assert!(blurred(&y, 1e-3, 8.0).is_none(), "glitch {glitch} at {at}");
+            assert!(detect(&y, &clean, 8.0).is_none_or(|l| !l.matters()), "glitch {glitch} at {at}");
+        }
+        // A burst: 1 % of the readings drop out to one value, too many to be left out of the
+        // range; they and the signal occupy two levels.
+        let mut y = noisy.clone();
+        for k in 0..30 {
+            y[17 + 100 * k] = 10.0;
+        }
+        assert!(blurred(&y, 1e-3, 8.0).is_none(), "a burst of dropouts");
+        // A coarse ADC (noise before the rounding) on a slew from 0.5 to rest: nine levels, too
+        // few for an exact lattice, and the confirming half holds only the last two or three;
+        // the moving samples as a whole occupy all nine.
+        let step = 0.0756;
+        let slew: Vec<f64> = (0..3000)
+            .map(|k| {
+                let t = k as f64 / 128.0;
+                let v = 0.5 * (-t / 0.6).exp() * (1.0 + 0.3 * (9.0 * t).sin());
+                step * ((v + 0.001 * rng.sample::<f64, _>(rand_distr::StandardNormal)) / step).round()
+            })
+            .collect();
+        assert!(exact(&slew, 10).is_none());
+        let (found, ..) = blurred(&slew, 1e-3, 8.0).expect("the coarse lattice");
+        let multiple = step / found;
+        assert!((multiple - multiple.round()).abs() < 0.01, "{found}");
+        // A true blurred lattice keeps being found with a glitch in it, wherever the glitch is.
+        let step = 0.02;
+        let after: Vec<f64> = clean
+            .iter()
+            .map(|v| step * (v / step).round() + 0.002 * rng.sample::<f64, _>(rand_distr::StandardNormal))
+            .collect();
+        for (at, glitch) in [(1400, 1000.0), (5, 50.0)] {
+            let mut y = after.clone();
+            y[at] = glitch;
+            let (found, ..) = blurred(&y, 1e-3, 8.0).unwrap_or_else(|| panic!("glitch {glitch} at {at}"));
+            assert!((found / step - 1.0).abs() < 0.01, "{found}");
+        }
     }
 
     #[test]

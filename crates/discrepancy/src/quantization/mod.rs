@@ -93,7 +93,8 @@ impl Lattice {
 
 /// The samples taken while the signal moves: from the start to the last sample farther from
 /// the rest value (the median of the last tenth of the record) than a tenth of the largest
-/// excursion. Chosen by time, not by value, so that no cut in value shapes their distribution.
+/// excursion (its ⌈n/200⌉-th largest, so that a glitch does not set it). Chosen by time, not
+/// by value, so that no cut in value shapes their distribution.
 pub fn moving(values: &[f64]) -> Vec<f64> {
     values[..moving_end(values)].to_vec()
 }
@@ -101,8 +102,24 @@ pub fn moving(values: &[f64]) -> Vec<f64> {
 /// The end (exclusive) of the samples [`moving`] keeps.
 fn moving_end(values: &[f64]) -> usize {
     let Some(rest) = rest_value(values) else { return 0 };
-    let reach = values.iter().fold(0.0f64, |a, v| a.max((v - rest).abs()));
+    let excursions: Vec<f64> = values.iter().map(|v| (v - rest).abs()).collect();
+    let reach = extent(&excursions).map_or(0.0, |(_, high)| high);
     values.iter().rposition(|v| (v - rest).abs() > 0.1 * reach).map_or(0, |k| k + 1)
+}
+
+/// The range of a record's readings without its few most extreme ones: the ⌈n/200⌉-th smallest
+/// and largest values (the 0.5th and 99.5th percentiles). A glitch — a reading far outside the
+/// signal, a spike or a dropout — then neither sets the scale a lattice is looked for on nor
+/// decides where the signal stops moving (`None` if `values` is empty).
+fn extent(values: &[f64]) -> Option<(f64, f64)> {
+    let n = values.len();
+    if n == 0 {
+        return None;
+    }
+    let k = n.div_ceil(200) - 1;
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    Some((sorted[k], sorted[n - 1 - k]))
 }
 
 /// The rest value of a record: the median of its last tenth (`None` if it is empty).
