@@ -17,9 +17,12 @@
 //! 6. returns the augmented model, which can be diagnosed again for the next effect.
 //!
 //! Sensor quantization is a measurement model, found as a lattice in the raw readings while the
-//! signal moves ([`quantization`]), named only when its step is comparable to the noise.
+//! signal moves ([`quantization`]), named only when its step is comparable to the noise. Single
+//! readings far outside the record's own motion — spikes, dropouts — are set aside first and
+//! reported ([`glitch`]).
 
 pub mod diagnose;
+pub mod glitch;
 pub mod localise;
 pub mod quantization;
 pub mod stats;

@@ -29,6 +29,18 @@ fn nan_is_rejected_naming_sample_and_output() {
 }
 
 #[test]
+fn other_values_keep_the_record_and_are_validated_as_new_ones() {
+    let record = Measurement::new(vec!["y".into()], 0.5, 0.1, column(&[1.0, 2.0, 3.0, 4.0])).unwrap();
+    let changed = record.with_values(column(&[1.0, 2.5, 3.0, 4.0])).unwrap();
+    assert_eq!((changed.start(), changed.interval(), changed.names()), (0.5, 0.1, record.names()));
+    assert_eq!(changed.values()[(1, 0)], 2.5);
+    let err = record.with_values(column(&[1.0, 2.0, 3.0])).unwrap_err().to_string();
+    assert!(err.contains("3 × 1 values for a record of 4 samples"), "{err}");
+    let err = record.with_values(column(&[1.0, f64::INFINITY, 3.0, 4.0])).unwrap_err().to_string();
+    assert!(err.contains("sample 1") && err.contains('y'), "{err}");
+}
+
+#[test]
 fn decimation_keeps_slow_content_and_removes_aliases() {
     // 128 Hz → 12.8 Hz (the paper's factor 10). New Nyquist 6.4 Hz; pass band up to 5.1 Hz.
     let fs = 128.0;

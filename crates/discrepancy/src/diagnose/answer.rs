@@ -246,6 +246,8 @@ pub struct Diagnosis {
     /// or [`Verdict::TimeVarying`]: its form tested beside it ([`SpringForm`]). `None` otherwise,
     /// also when a rival unseated the spring first (the test is not run then).
     pub spring: Option<SpringForm>,
+    /// Readings set aside as glitches before anything was fitted (module [`crate::glitch`]).
+    pub glitches: Vec<crate::glitch::Glitch>,
 }
 
 impl Diagnosis {

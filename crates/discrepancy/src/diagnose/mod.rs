@@ -179,7 +179,8 @@ pub fn diagnose_observed(
         return Err(WorkflowError::Driven { inputs: model.input_names().join(", ") });
     }
     let wrapped = model;
-    let raw = align(wrapped, raw)?;
+    // A spike or a dropout in one reading is neither physics nor the measurement model's noise.
+    let (raw, glitches) = crate::glitch::set_aside(&align(wrapped, raw)?)?;
     let data = match options.decimate {
         Some(r) if r > 1 => raw.decimate(r)?,
         _ => raw.clone(),
@@ -465,6 +466,7 @@ pub fn diagnose_observed(
         scale_equivalents,
         rivals,
         spring,
+        glitches,
     })
 }
 

@@ -47,11 +47,47 @@ pub struct DiagnosisReport<'a> {
     /// For the same spring: a linear stiffness that changes with time, k₁′·t·q, refitted beside
     /// it, and whether the data demand it; absent otherwise.
     pub changing_spring: Option<&'a super::SpringTerm>,
+    /// Readings set aside as glitches before anything was fitted, each replaced by its
+    /// neighbours' mean (empty if none).
+    pub glitches: &'a [crate::glitch::Glitch],
 }
 
 impl Diagnosis {
     /// The answer in words.
     pub fn answer(&self) -> Vec<String> {
+        let mut out = self.verdict_sentences();
+        out.extend(self.glitch_sentence());
+        out
+    }
+
+    /// The readings set aside as glitches, in words (`None` if there were none).
+    fn glitch_sentence(&self) -> Option<String> {
+        const SHOWN: usize = 3;
+        let (first, more) = (self.glitches.iter().take(SHOWN), self.glitches.len().saturating_sub(SHOWN));
+        let listed: Vec<String> = first
+            .map(|g| {
+                format!(
+                    "`{}` at {:.4} s ({:.4e}, replaced by {:.4e})",
+                    g.output, g.time, g.reading, g.replaced_by
+                )
+            })
+            .collect();
+        (!listed.is_empty()).then(|| {
+            format!(
+                "{} reading{} set aside as glitch{} before fitting (far from both neighbours, beyond {}× the \
+                 record's 95th-percentile change from one sample to the next): {}{}",
+                self.glitches.len(),
+                if self.glitches.len() == 1 { "" } else { "s" },
+                if self.glitches.len() == 1 { "" } else { "es" },
+                crate::glitch::GLITCH_FACTOR,
+                listed.join(", "),
+                if more > 0 { format!(" and {more} more") } else { String::new() }
+            )
+        })
+    }
+
+    /// Why this effect, or why none and what remains.
+    fn verdict_sentences(&self) -> Vec<String> {
         match self.named() {
             Some(c) => {
                 let why = match (&c.lattice, c.evidence.held_out) {
@@ -260,6 +296,7 @@ impl Diagnosis {
             rival_mismatches: &self.rivals,
             asymmetric_spring: self.spring.as_ref().map(|f| &f.asymmetric),
             changing_spring: self.spring.as_ref().map(|f| &f.changing),
+            glitches: &self.glitches,
         }
     }
 }

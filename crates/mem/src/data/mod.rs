@@ -175,6 +175,25 @@ impl Measurement {
     pub fn values(&self) -> &Mat<f64> {
         &self.values
     }
+    /// The same record with other output values (K × p, the same shape; inputs, decimation
+    /// and names kept): readings corrected or set aside by a workflow.
+    ///
+    /// # Errors
+    /// [`MemError::InvalidData`] for another shape, [`MemError::Sample`] for a NaN/infinite
+    /// value (naming its sample and output).
+    pub fn with_values(&self, values: Mat<f64>) -> Result<Self, MemError> {
+        if (values.nrows(), values.ncols()) != (self.values.nrows(), self.values.ncols()) {
+            return Err(MemError::InvalidData(format!(
+                "{} × {} values for a record of {} samples of {} outputs",
+                values.nrows(),
+                values.ncols(),
+                self.values.nrows(),
+                self.values.ncols()
+            )));
+        }
+        check_values(&self.names, &values, "output")?;
+        Ok(Self { values, ..self.clone() })
+    }
     /// The measured inputs, if any.
     pub fn inputs(&self) -> Option<&Inputs> {
         self.inputs.as_ref()
