@@ -77,7 +77,7 @@ pub fn find(values: &[f64]) -> Vec<(usize, f64)> {
                 let replaced = if k == 0 || k == n - 1 {
                     2.0 * values[a] - values[b]
                 } else {
-                    0.5 * (values[a] + values[b])
+                    0.5 * values[a] + 0.5 * values[b]
                 };
                 (k, replaced)
             })
@@ -85,29 +85,31 @@ pub fn find(values: &[f64]) -> Vec<(usize, f64)> {
         .collect()
 }
 
-/// The record with every glitch of every output replaced, and the glitches.
+/// The record with every glitch of every output replaced, and the glitches. A record without
+/// one comes back as it was, uncopied.
 ///
 /// # Errors
 /// None in practice (the replacements are finite means of finite readings); the record's own
 /// validation is kept.
-pub fn set_aside(data: &Measurement) -> Result<(Measurement, Vec<Glitch>), mem::MemError> {
-    let mut values = data.values().clone();
+pub fn set_aside(data: Measurement) -> Result<(Measurement, Vec<Glitch>), mem::MemError> {
     let mut found = Vec::new();
     for (o, name) in data.names().iter().enumerate() {
-        let column: Vec<f64> = (0..data.n_samples()).map(|k| values[(k, o)]).collect();
-        for (k, replaced_by) in find(&column) {
-            found.push(Glitch {
-                output: name.clone(),
-                sample: k,
-                time: data.start() + k as f64 * data.interval(),
-                reading: column[k],
-                replaced_by,
-            });
-            values[(k, o)] = replaced_by;
-        }
+        let column: Vec<f64> = (0..data.n_samples()).map(|k| data.values()[(k, o)]).collect();
+        found.extend(find(&column).into_iter().map(|(k, replaced_by)| Glitch {
+            output: name.clone(),
+            sample: k,
+            time: data.start() + k as f64 * data.interval(),
+            reading: column[k],
+            replaced_by,
+        }));
     }
     if found.is_empty() {
-        return Ok((data.clone(), found));
+        return Ok((data, found));
+    }
+    let mut values = data.values().clone();
+    for g in &found {
+        let o = data.names().iter().position(|n| *n == g.output).expect("an output of the record");
+        values[(g.sample, o)] = g.replaced_by;
     }
     Ok((data.with_values(values)?, found))
 }
@@ -173,7 +175,7 @@ mod tests {
         q3[123] = 7.0;
         let values = faer::Mat::from_fn(400, 2, |k, o| if o == 0 { q1[k] } else { q3[k] });
         let data = Measurement::new(vec!["q1".into(), "q3".into()], 0.0, 0.005, values).unwrap();
-        let (cleaned, glitches) = set_aside(&data).unwrap();
+        let (cleaned, glitches) = set_aside(data).unwrap();
         assert_eq!(glitches.len(), 1);
         let g = &glitches[0];
         assert_eq!((g.output.as_str(), g.sample, g.reading), ("q3", 123, 7.0));
@@ -182,7 +184,7 @@ mod tests {
         assert_eq!(cleaned.values()[(122, 1)], q3[122]);
         assert_eq!(cleaned.values()[(123, 0)], q1[123]);
         // Nothing to set aside: the record comes back as it was.
-        let (same, none) = set_aside(&cleaned).unwrap();
+        let (same, none) = set_aside(cleaned.clone()).unwrap();
         assert!(none.is_empty());
         assert_eq!(same, cleaned);
     }

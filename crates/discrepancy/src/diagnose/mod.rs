@@ -180,7 +180,7 @@ pub fn diagnose_observed(
     }
     let wrapped = model;
     // A spike or a dropout in one reading is neither physics nor the measurement model's noise.
-    let (raw, glitches) = crate::glitch::set_aside(&align(wrapped, raw)?)?;
+    let (raw, glitches) = crate::glitch::set_aside(align(wrapped, raw)?)?;
     let data = match options.decimate {
         Some(r) if r > 1 => raw.decimate(r)?,
         _ => raw.clone(),

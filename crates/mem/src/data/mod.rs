@@ -192,7 +192,15 @@ impl Measurement {
             )));
         }
         check_values(&self.names, &values, "output")?;
-        Ok(Self { values, ..self.clone() })
+        Ok(Self {
+            names: self.names.clone(),
+            interval: self.interval,
+            start: self.start,
+            values,
+            inputs: self.inputs.clone(),
+            decimation: self.decimation.clone(),
+            discarded: self.discarded.clone(),
+        })
     }
     /// The measured inputs, if any.
     pub fn inputs(&self) -> Option<&Inputs> {
