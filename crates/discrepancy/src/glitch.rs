@@ -1,13 +1,14 @@
-//! Glitches: single readings far outside the record's own motion, set aside before a diagnosis.
+//! Glitches: readings far outside the record's own motion — a spike, or a dropout of one to a
+//! few samples — set aside before a diagnosis.
 //!
-//! A spike or a dropout in one reading is not physics and not part of the measurement model
-//! (Gaussian AR(1) noise, module [`crate::diagnose::evidence`]): one reading 30× an output's
-//! RMS off inflates that output's profiled variance a thousandfold, and every candidate's gain
-//! with it shrinks to nothing (on the blind development set with one such reading put into each
-//! record, 26 of 66 answers changed, most to `none`, some to a delay or a quantizer). So before
-//! anything is fitted, a reading y_k of an output is a **glitch** when it departs from both of
-//! its nearest readings (y_{k−1} and y_{k+1}; at an end of the record the two next to it) in the
-//! same direction, each by more than
+//! A glitch is not physics and not part of the measurement model (Gaussian AR(1) noise, module
+//! [`crate::diagnose::evidence`]): one reading 30× an output's RMS off inflates that output's
+//! profiled variance a thousandfold, and every candidate's gain with it shrinks to nothing (on
+//! the blind development set with one such reading put into each record, 26 of 66 answers
+//! changed, most to `none`, some to a delay or a quantizer). So before anything is fitted, a run
+//! of one to [`MAX_RUN`] adjacent readings y_k … y_{k+L−1} of an output is a **glitch** when
+//! each of them departs from both readings that bound the run (y_{k−1} and y_{k+L}; at an end of
+//! the record the two next to the run) in the same direction, each by more than
 //!
 //! ```text
 //! T = max(GLITCH_FACTOR · q₉₅(|Δy|),  STEP_FACTOR · median(|Δy| > 0)),
@@ -16,13 +17,15 @@
 //! with q₉₅(|Δy|) the 95th percentile of the output's sample-to-sample changes (the signal's
 //! own fastest motion and its noise, unmoved by a few glitches) and the median nonzero change
 //! (a quantized sensor's step: a reading that blips one level up and back is not a glitch). A
-//! step change of the signal departs from one neighbour only, and is kept. A glitch is replaced
-//! by the mean of its two neighbours (at an end, by the straight line through the two next to
-//! it) and reported ([`Glitch`]); a run of two or more adjacent glitches is not recognised.
+//! step change of the signal departs from the readings on one side only, and is kept; so is a
+//! plateau longer than [`MAX_RUN`] samples. The longest run from a reading is taken first. A
+//! glitch is replaced by the straight line through the two bounding readings (for one reading
+//! inside the record, their mean; at an end, the line through the two next to it, extended) and
+//! reported, one [`Glitch`] per reading.
 //!
 //! On the 1,922 records of the seen studies and fixtures (slewing and structure, dev, held-out
 //! and fresh draws, the blind development set) no reading is a glitch; one reading moved by 3×
-//! its output's standard deviation or more is found in 65 of 66 blind records (by 1×, in 33).
+//! its output's standard deviation or more is found in 64 of 66 blind records (by 1×, in 31).
 
 use mem::Measurement;
 use serde::Serialize;
@@ -30,6 +33,9 @@ use serde::Serialize;
 /// How many times the 95th percentile of an output's sample-to-sample changes a glitch departs
 /// from each neighbour.
 pub const GLITCH_FACTOR: f64 = 20.0;
+
+/// The longest run of adjacent glitched readings recognised (a dropout of a few samples).
+pub const MAX_RUN: usize = 5;
 
 /// How many times the median nonzero sample-to-sample change (a quantized sensor's step) a
 /// glitch departs from each neighbour.
@@ -46,11 +52,12 @@ pub struct Glitch {
     pub time: f64,
     /// The reading.
     pub reading: f64,
-    /// What replaced it: its neighbours' mean (at an end, the line through the two next to it).
+    /// What replaced it: the line through the readings that bound its run (for one reading, its
+    /// neighbours' mean; at an end, the line through the two next to it).
     pub replaced_by: f64,
 }
 
-/// The samples of `values` that are glitches, with their replacements (module docs).
+/// The samples of `values` that are glitches, with their replacements (module docs), in order.
 pub fn find(values: &[f64]) -> Vec<(usize, f64)> {
     let n = values.len();
     if n < 3 {
@@ -65,24 +72,58 @@ pub fn find(values: &[f64]) -> Vec<(usize, f64)> {
     if !(bar > 0.0 && bar.is_finite()) {
         return Vec::new();
     }
-    (0..n)
-        .filter_map(|k| {
-            let (a, b) = match k {
-                0 => (1, 2),
-                k if k == n - 1 => (n - 2, n - 3),
-                k => (k - 1, k + 1),
-            };
-            let (left, right) = (values[k] - values[a], values[k] - values[b]);
-            (left * right > 0.0 && left.abs().min(right.abs()) > bar).then(|| {
-                let replaced = if k == 0 || k == n - 1 {
-                    2.0 * values[a] - values[b]
-                } else {
-                    0.5 * values[a] + 0.5 * values[b]
-                };
-                (k, replaced)
+    let mut found = Vec::new();
+    let mut k = 0;
+    while k < n {
+        // The longest run from k first: a run whose readings differ is not cut short by its first.
+        match (1..=MAX_RUN).rev().find_map(|length| glitch_run(values, k, length, bar)) {
+            Some(replaced) => {
+                let length = replaced.len();
+                found.extend(replaced.into_iter().enumerate().map(|(i, v)| (k + i, v)));
+                k += length;
+            }
+            None => k += 1,
+        }
+    }
+    found
+}
+
+/// The replacements of the `length` readings from `k` on, if they are a run of glitches: each
+/// departs from both readings that bound the run — y_{k−1} and y_{k+length}; at an end of the
+/// record the two next to the run — in the same direction, by more than `bar`. They are
+/// replaced by the straight line through those two readings: interpolated between them inside
+/// the record (one reading: their mean), extrapolated at an end.
+fn glitch_run(values: &[f64], k: usize, length: usize, bar: f64) -> Option<Vec<f64>> {
+    let n = values.len();
+    if k + length > n || n < length + 2 {
+        return None;
+    }
+    let (a, b) = if k == 0 {
+        (length, length + 1)
+    } else if k + length == n {
+        (k - 1, k - 2)
+    } else {
+        (k - 1, k + length)
+    };
+    let (ya, yb) = (values[a], values[b]);
+    let run = &values[k..k + length];
+    let upward = run[0] > ya;
+    let departs = |v: f64| {
+        let (left, right) = (v - ya, v - yb);
+        left * right > 0.0 && (left > 0.0) == upward && left.abs().min(right.abs()) > bar
+    };
+    if !run.iter().all(|v| departs(*v)) {
+        return None;
+    }
+    let (pa, pb) = (a as f64, b as f64);
+    Some(
+        (k..k + length)
+            .map(|j| {
+                let w = (j as f64 - pa) / (pb - pa);
+                (1.0 - w) * ya + w * yb
             })
-        })
-        .collect()
+            .collect(),
+    )
 }
 
 /// The record with every glitch of every output replaced, and the glitches. A record without
@@ -147,6 +188,39 @@ mod tests {
             };
             assert_eq!(replaced, expected);
         }
+    }
+
+    #[test]
+    fn a_dropout_of_a_few_readings_is_one_glitch_run_replaced_by_a_line() {
+        let clean = noisy_decay(2001, 7);
+        // Runs of 2 to MAX_RUN readings inside the record and at either end, level (a dropout to
+        // one value) or not (a spike that decays).
+        for (at, length, level) in
+            [(700, 2, true), (1200, 3, false), (0, 4, true), (1996, 5, false), (40, 5, true)]
+        {
+            let mut y = clean.clone();
+            for i in 0..length {
+                y[at + i] = if level { -0.4 } else { 0.6 - 0.05 * i as f64 };
+            }
+            let found = find(&y);
+            let ks: Vec<usize> = found.iter().map(|(k, _)| *k).collect();
+            assert_eq!(ks, (at..at + length).collect::<Vec<_>>(), "{at}+{length}");
+            // The line through the two readings that bound the run, computed here from them.
+            let (a, b) = match at {
+                0 => (length, length + 1),
+                _ if at + length == y.len() => (at - 1, at - 2),
+                _ => (at - 1, at + length),
+            };
+            for (k, replaced) in found {
+                let expected = y[a] + (y[b] - y[a]) * (k as f64 - a as f64) / (b as f64 - a as f64);
+                assert!((replaced - expected).abs() < 1e-12, "{at}+{length} at {k}: {replaced} {expected}");
+                assert!((replaced - clean[k]).abs() < 0.01, "{at}+{length} at {k}: {replaced} {}", clean[k]);
+            }
+        }
+        // A plateau longer than MAX_RUN is the signal's, and is kept.
+        let mut y = clean.clone();
+        y[900..900 + MAX_RUN + 1].iter_mut().for_each(|v| *v = -0.4);
+        assert!(find(&y).is_empty());
     }
 
     #[test]

@@ -28,8 +28,8 @@ pub mod quantization;
 pub mod stats;
 
 pub use diagnose::{
-    Candidate, DiagnoseOptions, Diagnosis, EffectParameter, Evidence, Observe, Quiet, Verdict, diagnose,
-    diagnose_observed,
+    Candidate, DiagnoseOptions, Diagnosis, EffectParameter, Evidence, Observe, Quiet, RIVAL_MARGIN, Verdict,
+    diagnose, diagnose_observed,
 };
 pub use localise::{Localisation, OutputDiscrepancy, localise};
 pub use models::{FitOutcome, FitRequest, Model, align, fit};

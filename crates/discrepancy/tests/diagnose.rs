@@ -2,7 +2,7 @@
 //! sensor effect is named on its sensor, and (ignored, long) the blind development set made by a
 //! simulator that shares no code with memid meets its rules.
 
-use discrepancy::{DiagnoseOptions, Verdict, diagnose};
+use discrepancy::{DiagnoseOptions, RIVAL_MARGIN, Verdict, diagnose};
 use models::Model;
 use plant::SlewingModel;
 
@@ -237,26 +237,27 @@ fn a_strain_scale_names_the_thickness_it_cannot_be_told_from() {
 }
 
 /// The strain gauge's scale was tried, and unseated by the beam's length, refitted alone in its
-/// place to within 3 standard errors of the truth's 1.2257 m with at least the scale's gain.
+/// place to within 3 standard errors of the truth's 1.2257 m with the scale's gain, or within a
+/// nat of it.
 fn assert_the_length_unseats_the_gauge_scale(d: &discrepancy::Diagnosis) {
     let scale = d.candidates.iter().find(|c| c.label == "sensor_scale(strain)").expect("tried");
     assert_the_length_unseats(d, scale, 1.2257);
 }
 
 /// `unseated` was unseated, and the beam's length, refitted alone in its place, is within 3
-/// standard errors of `truth` with at least its in-sample gain.
+/// standard errors of `truth` with its in-sample gain or within [`RIVAL_MARGIN`] of it.
 fn assert_the_length_unseats(d: &discrepancy::Diagnosis, unseated: &discrepancy::Candidate, truth: f64) {
     assert_eq!(unseated.verdict, Verdict::MatchedByMismatch, "{:?}", d.answer());
     let length = d.rivals.iter().find(|r| r.name == "length").expect("the length is a rival");
     let se = length.std_error.expect("determined");
     assert!((length.value - truth).abs() < 3.0 * se, "length {} ± {se}", length.value);
-    assert!(length.in_sample >= unseated.evidence.in_sample, "{length:?}");
+    assert!(length.in_sample + RIVAL_MARGIN > unseated.evidence.in_sample, "{length:?}");
 }
 
 /// A beam 3 % longer than the file says, nothing else, from the study's independent truth plant
 /// (`fixtures/independent/slewing_length.py`, 1.2257 m against 1.19 m). With one strain gauge a
 /// length error and a gauge calibration error act alike; the length, refitted alone in place of
-/// the gauge's scale, explains the record at least as well, and a parameter mismatch is not a
+/// the gauge's scale, explains the record as well, and a parameter mismatch is not a
 /// missing effect: the answer is `none`, with the scale unseated by the length and the length
 /// where the truth put it. (Before the rival could unseat the scale, this named the scale.)
 #[test]
@@ -278,6 +279,31 @@ fn a_longer_beam_is_a_length_mismatch_not_a_gauge_scale() {
     assert!(
         json["candidates"].as_array().unwrap().iter().any(|c| c["verdict"] == "matched_by_mismatch"),
         "{json}"
+    );
+}
+
+/// The same longer beam in another draw: held-out case `B_length_+3_s2` of the study's seed
+/// 17123 (`fixtures/independent/study_cases.py` regenerates it), strongly coloured noise (AR(1),
+/// ρ 0.89), read at 128 Hz. Here the gauge's scale gains a quarter of a nat more in sample than
+/// the length refitted alone in its place: a difference "not worth more than a bare mention",
+/// which a record with one strain gauge leaves either way. The answer is `none`, with the length
+/// beside it where the truth put it. (Before an effect had to beat its rival by
+/// [`RIVAL_MARGIN`], this named the scale.)
+#[test]
+fn a_near_tie_with_the_beams_length_is_not_a_gauge_scale() {
+    let d = fixture_at("slewing_long_tie", None, |t| {
+        t.replace("hub_angle: 0.5,", "hub_angle: 0.58903997295084,")
+            .replace("free: [\"cv\"],", "free: [\"cv\", \"kp\"],")
+    });
+    assert!(d.named().is_none(), "{:?}", d.answer());
+    assert_the_length_unseats_the_gauge_scale(&d);
+    // The case the margin is for: a near-tie, which either could have won.
+    let scale = d.candidates.iter().find(|c| c.label == "sensor_scale(strain)").unwrap();
+    let length = d.rivals.iter().find(|r| r.name == "length").unwrap();
+    assert!(
+        (scale.evidence.in_sample - length.in_sample).abs() < RIVAL_MARGIN,
+        "{:?} {length:?}",
+        scale.evidence
     );
 }
 

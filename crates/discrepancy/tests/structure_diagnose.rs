@@ -38,12 +38,22 @@ fn nothing_hidden_is_none_in_white_and_coloured_noise() {
 
 /// `case`'s record with the reading of `output` at `time` moved by `by`.
 fn with_glitch(case: &str, output: usize, time: f64, by: f64) -> mem::Measurement {
+    with_dropout(case, output, time, 1, by)
+}
+
+/// `case`'s record with `length` readings of `output` from `time` on replaced by `level`
+/// (`length` 1: moved by it).
+fn with_dropout(case: &str, output: usize, time: f64, length: usize, level: f64) -> mem::Measurement {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures");
     let path = format!("{root}/independent/effects/{case}.csv");
     let read = mem::Measurement::read_csv(std::path::Path::new(&path)).unwrap();
     let at = read.times().iter().position(|t| (t - time).abs() < 1e-9).unwrap();
     let mut values = read.values().clone();
-    values[(at, output)] += by;
+    if length == 1 {
+        values[(at, output)] += level;
+    } else {
+        (at..at + length).for_each(|k| values[(k, output)] = level);
+    }
     read.with_values(values).unwrap()
 }
 
@@ -76,6 +86,17 @@ fn a_glitch_in_one_reading_is_set_aside_and_not_named() {
 fn an_effect_is_still_named_with_a_glitch_in_its_record() {
     let d = run_on(&with_glitch("drag_q3", 1, 6.0, -0.3));
     assert_eq!(d.glitches.len(), 1);
+    assert_eq!(d.named().map(|c| c.label.as_str()), Some("quadratic_drag(q3)"));
+}
+
+/// Three readings of the roof's q3 dropped to a rail value, −0.3 m (50× its RMS), in the same
+/// drag record: a run of glitches, set aside as one, and the drag is still named where it acts.
+/// (Before runs were recognised, no reading of the three departed from both its neighbours.)
+#[test]
+fn a_dropout_of_three_readings_is_set_aside_and_the_effect_still_named() {
+    let d = run_on(&with_dropout("drag_q3", 1, 6.0, 3, -0.3));
+    let set_aside: Vec<(&str, usize)> = d.glitches.iter().map(|g| (g.output.as_str(), g.sample)).collect();
+    assert_eq!(set_aside, [("q3", 1200), ("q3", 1201), ("q3", 1202)], "{:?}", d.glitches);
     assert_eq!(d.named().map(|c| c.label.as_str()), Some("quadratic_drag(q3)"));
 }
 

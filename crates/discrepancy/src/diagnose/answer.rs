@@ -36,6 +36,14 @@ pub enum AddedTerm {
     },
 }
 
+/// The in-sample evidence (nats) an effect needs over a rival of no more parameters to keep its
+/// name. With equal parameter counts the gains' difference is the log Bayes factor (BIC's
+/// penalties cancel), and ln B < 1 (2 ln B < 2) is evidence "not worth more than a bare mention"
+/// on the scale of Kass & Raftery (1995, *Bayes factors*, JASA 90, §3.2); a gauge's calibration
+/// and the beam's length differ by less than that on a record where either explains the one
+/// strain gauge ([module `diagnose`](mod@crate::diagnose), step 7).
+pub const RIVAL_MARGIN: f64 = 1.0;
+
 /// A model parameter that, refitted alone in place of a named effect, explains the data as well
 /// (its in-sample gain within the held-out threshold of the effect's, or more): a mismatch of it
 /// is an answer these data do not rule out. It may also be a linear term the model lacks
@@ -73,11 +81,11 @@ impl Rival {
         }
     }
 
-    /// Whether this mismatch explains the data at least as well as an effect of in-sample gain
-    /// `effect_in_sample` (with no more parameters): then the effect is not named
-    /// ([`Verdict::MatchedByMismatch`]).
+    /// Whether this mismatch explains the data as well as an effect of in-sample gain
+    /// `effect_in_sample` (with no more parameters), to within [`RIVAL_MARGIN`]: then the
+    /// effect is not named ([`Verdict::MatchedByMismatch`]).
     pub fn unseats(&self, effect_in_sample: f64) -> bool {
-        self.in_sample >= effect_in_sample
+        self.in_sample + RIVAL_MARGIN > effect_in_sample
     }
 }
 
@@ -166,8 +174,8 @@ pub enum Verdict {
     /// is missing acts on that output through the dynamics, and the sensor's error only shaves it.
     LeavesItsOutput,
     /// An effect that a mismatch of one of the model's own parameters (or a linear spring at
-    /// the slewing rig's hub), refitted alone in its place, explains at least as well
-    /// ([`Rival`]): one wrong parameter is the simpler answer than a missing effect, so nothing
+    /// the slewing rig's hub), refitted alone in its place, explains as well, to within
+    /// [`RIVAL_MARGIN`] ([`Rival`]): one wrong parameter is the simpler answer than a missing effect, so nothing
     /// is named.
     MatchedByMismatch,
     /// A symmetric spring whose data demand an asymmetric part beside it ([`SpringForm`]): the

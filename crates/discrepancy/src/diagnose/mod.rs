@@ -19,11 +19,13 @@
 //!    ([`MIN_SENSOR_STRUCTURE_EXPLAINED`]): a sensor's error acts there alone; an unmodeled
 //!    mode removes at least half of all of it ([`MIN_MODE_STRUCTURE_EXPLAINED`]): a mode is
 //!    linear, as the model is, and where it is what is missing it leaves little but noise;
-//! 7. it gains more in sample than each of the model's own parameters not refitted (for the
-//!    slewing rig also the beam's length and the hub's radius, and a linear spring at the hub
-//!    the model lacks), refitted alone in its place ([`Rival`], [`Verdict::MatchedByMismatch`]):
-//!    a wrong parameter is not a missing effect, and one parameter that explains as much as an
-//!    effect of one to three is the simpler answer. (For a sensor scale, the parameters that
+//! 7. it gains more in sample, by at least [`RIVAL_MARGIN`] = 1 nat (2 ln B ≥ 2, the lower
+//!    edge of "positive" evidence on the Kass–Raftery scale), than each of the model's own
+//!    parameters not refitted (for the slewing rig also the beam's length and the hub's
+//!    radius, and a linear spring at the hub the model lacks), refitted alone in its place
+//!    ([`Rival`], [`Verdict::MatchedByMismatch`]): a wrong parameter is not a missing effect,
+//!    and one parameter that explains as much as an effect of one to three is the simpler
+//!    answer. (For a sensor scale, the parameters that
 //!    scale its output alone are its exact equivalents and reported as such, not tried.)
 //! 8. a symmetric spring (a structure's `cubic_stiffness` at coordinate c) is demanded neither
 //!    to be asymmetric nor to change with time: refitted with k₂q_c² or with k₁′·t·q_c beside
@@ -52,7 +54,8 @@ mod run;
 mod spring;
 
 pub use answer::{
-    AddedTerm, Candidate, Diagnosis, EffectParameter, Evidence, Rival, SpringForm, SpringTerm, Verdict,
+    AddedTerm, Candidate, Diagnosis, EffectParameter, Evidence, RIVAL_MARGIN, Rival, SpringForm, SpringTerm,
+    Verdict,
 };
 pub use report::DiagnosisReport;
 
@@ -382,7 +385,7 @@ pub fn diagnose_observed(
         candidates.extend(quantization_candidates(&start, &raw, &data, &reference, &reference_free)?);
     }
     // A named effect is set against the model's own parameters it could stand for: if one of
-    // them, refitted alone, explains the data at least as well (in sample), a parameter
+    // them, refitted alone, explains the data as well (in sample, to within a nat), a parameter
     // mismatch is the simpler answer and nothing is named. The other candidates are not named
     // in its place: they were scored against a reference without that mismatch, which may
     // explain what they do. A sensor scale's exact equivalents (the parameters that scale its

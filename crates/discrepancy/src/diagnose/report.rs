@@ -37,7 +37,7 @@ pub struct DiagnosisReport<'a> {
     pub equivalent_parameters: &'a [String],
     /// For a named effect: the model's parameters that, refitted alone instead, explain the
     /// data as well — mismatches these data do not rule out; for an effect they unseated
-    /// ([`Verdict::MatchedByMismatch`]), those that explain them at least as well (empty
+    /// ([`Verdict::MatchedByMismatch`]), those that explain them as well, to within a nat (empty
     /// otherwise).
     pub rival_mismatches: &'a [super::Rival],
     /// For a structure `cubic_stiffness` that was named, or set aside as
@@ -47,8 +47,8 @@ pub struct DiagnosisReport<'a> {
     /// For the same spring: a linear stiffness that changes with time, k₁′·t·q, refitted beside
     /// it, and whether the data demand it; absent otherwise.
     pub changing_spring: Option<&'a super::SpringTerm>,
-    /// Readings set aside as glitches before anything was fitted, each replaced by its
-    /// neighbours' mean (empty if none).
+    /// Readings set aside as glitches before anything was fitted, each replaced by the line
+    /// through the readings that bound its run (empty if none).
     pub glitches: &'a [crate::glitch::Glitch],
 }
 
@@ -74,8 +74,8 @@ impl Diagnosis {
             .collect();
         (!listed.is_empty()).then(|| {
             format!(
-                "{} reading{} set aside as glitch{} before fitting (far from both neighbours, beyond {}× the \
-                 record's 95th-percentile change from one sample to the next): {}{}",
+                "{} reading{} set aside as glitch{} before fitting (far from the readings on both sides, beyond \
+                 {}× the record's 95th-percentile change from one sample to the next): {}{}",
                 self.glitches.len(),
                 if self.glitches.len() == 1 { "" } else { "s" },
                 if self.glitches.len() == 1 { "" } else { "es" },
@@ -222,7 +222,7 @@ impl Diagnosis {
                                 let one = unseating.len() == 1;
                                 format!(
                                     "predictive on held-out blocks ({:.1} nats in sample), but {} parameter{}, {}refitted \
-                                     alone in its place, explain{} the data at least as well: \
+                                     alone in its place, explain{} the data as well (to within a nat): \
                                      {}; check {} before adding the effect",
                                     best.evidence.in_sample,
                                     if one { "one".to_string() } else { unseating.len().to_string() },

@@ -212,6 +212,28 @@ mod tests {
     }
 
     #[test]
+    fn a_stray_reading_in_the_settled_tail_does_not_stretch_the_moving_window() {
+        // The decay's peaks fall below a tenth of its reach (its 15th largest excursion, 0.43)
+        // after k ≈ 950 and it sits at rest after that; a reading or two at a fifth of the reach,
+        // each alone, late in the tail are not motion.
+        let mut rng = rand::rngs::StdRng::seed_from_u64(17);
+        let noisy: Vec<f64> = decay(3000)
+            .iter()
+            .map(|v| v + 0.002 * rng.sample::<f64, _>(rand_distr::StandardNormal))
+            .collect();
+        let settled = super::super::moving(&noisy).len();
+        assert!((850..=1100).contains(&settled), "{settled}");
+        for stray in [vec![2500], vec![2990], vec![1800, 2700]] {
+            let mut y = noisy.clone();
+            for &k in &stray {
+                y[k] += 0.1;
+            }
+            let end = super::super::moving(&y).len();
+            assert!((850..=1100).contains(&end), "{stray:?}: {end}");
+        }
+    }
+
+    #[test]
     fn a_settled_tail_is_not_a_lattice_but_a_blurred_lattice_while_moving_is() {
         let mut rng = rand::rngs::StdRng::seed_from_u64(5);
         // A decay that settles for two thirds of the record: noise crowding near rest.

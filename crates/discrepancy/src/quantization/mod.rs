@@ -93,18 +93,25 @@ impl Lattice {
 
 /// The samples taken while the signal moves: from the start to the last sample farther from
 /// the rest value (the median of the last tenth of the record) than a tenth of the largest
-/// excursion (its ⌈n/200⌉-th largest, so that a glitch does not set it). Chosen by time, not
-/// by value, so that no cut in value shapes their distribution.
+/// excursion (its ⌈n/200⌉-th largest, so that a glitch does not set it) whose neighbour is
+/// farther too. Motion lasts; a stray reading in the settled tail — a glitch, a noise spike —
+/// stands alone, and would otherwise stretch the window over the tail. Chosen by time, not by
+/// value, so that no cut in value shapes their distribution.
 pub fn moving(values: &[f64]) -> Vec<f64> {
     values[..moving_end(values)].to_vec()
 }
 
-/// The end (exclusive) of the samples [`moving`] keeps.
+/// The end (exclusive) of the samples [`moving`] keeps (the last excursion, if none has an
+/// excursion beside it; 0 if the record does not move).
 fn moving_end(values: &[f64]) -> usize {
     let Some(rest) = rest_value(values) else { return 0 };
     let excursions: Vec<f64> = values.iter().map(|v| (v - rest).abs()).collect();
     let reach = extent(&excursions).map_or(0.0, |(_, high)| high);
-    values.iter().rposition(|v| (v - rest).abs() > 0.1 * reach).map_or(0, |k| k + 1)
+    let moves: Vec<bool> = excursions.iter().map(|e| *e > 0.1 * reach).collect();
+    let sustained = (0..moves.len())
+        .rev()
+        .find(|&k| moves[k] && ((k > 0 && moves[k - 1]) || moves.get(k + 1).copied().unwrap_or(false)));
+    sustained.or_else(|| moves.iter().rposition(|m| *m)).map_or(0, |k| k + 1)
 }
 
 /// The range of a record's readings without its few most extreme ones: the ⌈n/200⌉-th smallest
