@@ -11,7 +11,8 @@ usage: python3 studies/diagnose/conditions.py SET_DIR OUT_DIR
 * `dec5`    the records as they are, decimated by 5 (25.6 Hz).
 
 Only the standard library.  OUT_DIR must not be inside the repository (the copies of a set
-that is not the project's must not be committed).
+that is not the project's must not be committed), must not overlap SET_DIR, and must not
+already hold a variant: nothing is overwritten, and each variant is written whole or not at all.
 """
 import csv
 import json
@@ -29,35 +30,50 @@ VARIANTS = {
 
 def variant(set_dir, out, args, rows_of):
     """Writes one variant of `set_dir` to `out`: the models as they are, each record's rows
-    passed through `rows_of`, every case's CLI options replaced by `args`."""
-    if os.path.exists(out):
-        shutil.rmtree(out)
-    os.makedirs(os.path.join(out, "data"))
-    shutil.copytree(os.path.join(set_dir, "models"), os.path.join(out, "models"))
+    passed through `rows_of`, every case's CLI options replaced by `args`.  Written to a
+    sibling folder first and renamed when whole, so `out` is complete or absent."""
+    partial = out + ".partial"
+    shutil.rmtree(partial, ignore_errors=True)
+    os.makedirs(os.path.join(partial, "data"))
+    shutil.copytree(os.path.join(set_dir, "models"), os.path.join(partial, "models"))
     with open(os.path.join(set_dir, "truth.json")) as f:
         truth = json.load(f)
     for case in truth["cases"]:
         with open(os.path.join(set_dir, case["data"]), newline="") as f:
             rows = list(csv.reader(f))
-        with open(os.path.join(out, case["data"]), "w", newline="") as f:
+        with open(os.path.join(partial, case["data"]), "w", newline="") as f:
             w = csv.writer(f)
             w.writerow(rows[0])
             w.writerows(rows_of(rows[1:]))
         case["args"] = args
     truth["conditions"] = {"from": os.path.abspath(set_dir), "args": args}
-    with open(os.path.join(out, "truth.json"), "w") as f:
+    with open(os.path.join(partial, "truth.json"), "w") as f:
         json.dump(truth, f, indent=1)
+    os.rename(partial, out)
+
+
+def inside(path, folder):
+    """Whether `path` is `folder` or lies inside it (both resolved)."""
+    return path == folder or path.startswith(folder + os.sep)
 
 
 def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__)
-    set_dir, out_dir = sys.argv[1], os.path.abspath(sys.argv[2])
-    root = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
-    if out_dir == root or out_dir.startswith(root + os.sep):
+    set_dir, out_dir = os.path.realpath(sys.argv[1]), os.path.realpath(sys.argv[2])
+    root = os.path.realpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+    if inside(out_dir, root):
         sys.exit("refusing to write the copies inside the repository; use e.g. /tmp/conditions")
+    if not os.path.isfile(os.path.join(set_dir, "truth.json")):
+        sys.exit(f"{set_dir}/truth.json: not found; SET_DIR is a folder with truth.json, models/, data/")
+    outs = {name: os.path.join(out_dir, name) for name in VARIANTS}
+    for name, out in outs.items():
+        if inside(out, set_dir) or inside(set_dir, out):
+            sys.exit(f"refusing to write {out}: it overlaps the set read, {set_dir}; choose another OUT_DIR")
+        if os.path.lexists(out):
+            sys.exit(f"{out} exists; remove it or choose another OUT_DIR (nothing is overwritten)")
     for name, (args, rows_of) in VARIANTS.items():
-        variant(set_dir, os.path.join(out_dir, name), args, rows_of)
+        variant(set_dir, outs[name], args, rows_of)
         print(f"wrote {os.path.join(out_dir, name)} ({' '.join(args) or 'no --decimate'})")
 
 

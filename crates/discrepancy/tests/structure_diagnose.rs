@@ -38,22 +38,22 @@ fn nothing_hidden_is_none_in_white_and_coloured_noise() {
 
 /// `case`'s record with the reading of `output` at `time` moved by `by`.
 fn with_glitch(case: &str, output: usize, time: f64, by: f64) -> mem::Measurement {
-    with_dropout(case, output, time, 1, by)
+    edited_record(case, time, |values, at| values[(at, output)] += by)
 }
 
-/// `case`'s record with `length` readings of `output` from `time` on replaced by `level`
-/// (`length` 1: moved by it).
+/// `case`'s record with `length` readings of `output` from `time` on replaced by `level`.
 fn with_dropout(case: &str, output: usize, time: f64, length: usize, level: f64) -> mem::Measurement {
+    edited_record(case, time, |values, at| (at..at + length).for_each(|k| values[(k, output)] = level))
+}
+
+/// `case`'s record with its values edited by `edit`, given the sample at `time`.
+fn edited_record(case: &str, time: f64, edit: impl FnOnce(&mut faer::Mat<f64>, usize)) -> mem::Measurement {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures");
     let path = format!("{root}/independent/effects/{case}.csv");
     let read = mem::Measurement::read_csv(std::path::Path::new(&path)).unwrap();
     let at = read.times().iter().position(|t| (t - time).abs() < 1e-9).unwrap();
     let mut values = read.values().clone();
-    if length == 1 {
-        values[(at, output)] += level;
-    } else {
-        (at..at + length).for_each(|k| values[(k, output)] = level);
-    }
+    edit(&mut values, at);
     read.with_values(values).unwrap()
 }
 

@@ -175,8 +175,8 @@ pub enum Verdict {
     LeavesItsOutput,
     /// An effect that a mismatch of one of the model's own parameters (or a linear spring at
     /// the slewing rig's hub), refitted alone in its place, explains as well, to within
-    /// [`RIVAL_MARGIN`] ([`Rival`]): one wrong parameter is the simpler answer than a missing effect, so nothing
-    /// is named.
+    /// [`RIVAL_MARGIN`] ([`Rival`]): one wrong parameter is the simpler answer than a missing
+    /// effect, so nothing is named.
     MatchedByMismatch,
     /// A symmetric spring whose data demand an asymmetric part beside it ([`SpringForm`]): the
     /// missing restoring force is one-sided, outside the catalog, so nothing is named.

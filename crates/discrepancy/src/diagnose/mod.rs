@@ -25,8 +25,8 @@
 //!    radius, and a linear spring at the hub the model lacks), refitted alone in its place
 //!    ([`Rival`], [`Verdict::MatchedByMismatch`]): a wrong parameter is not a missing effect,
 //!    and one parameter that explains as much as an effect of one to three is the simpler
-//!    answer. (For a sensor scale, the parameters that
-//!    scale its output alone are its exact equivalents and reported as such, not tried.)
+//!    answer. (For a sensor scale, the parameters that scale its output alone are its exact
+//!    equivalents and reported as such, not tried.)
 //! 8. a symmetric spring (a structure's `cubic_stiffness` at coordinate c) is demanded neither
 //!    to be asymmetric nor to change with time: refitted with k₂q_c² or with k₁′·t·q_c beside
 //!    its k₃q_c³ and a symmetric k₅q_c⁵, neither term is determined while gaining the
