@@ -1,6 +1,6 @@
 //! The blurred-lattice test's null distribution, measured on a study's records.
 //!
-//!     cargo run --release -p discrepancy --example lattice_null -- DIR [DIR …]
+//!     cargo run --release -p discrepancy --example lattice_null -- [--floor K] DIR [DIR …]
 //!
 //! Each DIR is a study set written by `studies/diagnose/generate.py`, or the blind set (a
 //! `truth.json` and `data/`). For every sensor of every record that the truth does not quantize, the blurred
@@ -10,16 +10,29 @@
 //! which adds the misfit and so looks at steps no smaller). The counts above a few levels are
 //! printed beside what Student's t with [`discrepancy::quantization::BATCHES`] − 1 degrees of
 //! freedom expects, the null of a mean of batch means whose phase comes from the other half;
-//! then how many of the quantized sensors' records reach the bars.
+//! then how many of the quantized sensors' records reach the bars. With `--floor K` the
+//! smallest step is K/2 noise σ instead (the diagnosis's floor, half the reference residual's
+//! RMS, is K/2 σ when the misfit makes the residual K times the noise).
 
 use discrepancy::quantization::{BATCHES, batch_threshold, blurred};
 use statrs::distribution::{ContinuousCDF, StudentsT};
 use std::path::Path;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let dirs: Vec<String> = std::env::args().skip(1).collect();
+    let mut dirs: Vec<String> = std::env::args().skip(1).collect();
+    let mut floor = 1.0;
+    if dirs.first().is_some_and(|a| a == "--floor") {
+        floor = dirs
+            .get(1)
+            .and_then(|k| k.parse::<f64>().ok())
+            .filter(|k| *k > 0.0)
+            .ok_or("--floor needs a positive number K (the smallest step is K/2 noise σ)")?;
+        dirs.drain(..2);
+    }
     if dirs.is_empty() {
-        return Err("usage: lattice_null DIR [DIR …] (study sets of studies/diagnose/generate.py)".into());
+        return Err(
+            "usage: lattice_null [--floor K] DIR [DIR …] (study sets of studies/diagnose/generate.py)".into(),
+        );
     }
     let mut z = Vec::new();
     let mut quantized_z = Vec::new();
@@ -52,7 +65,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 };
                 let values: Vec<f64> = (0..record.n_samples()).map(|k| record.values()[(k, o)]).collect();
                 let range = values.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-                match blurred(&values, (0.5 * sigma).max(1e-6 * range), f64::NEG_INFINITY) {
+                match blurred(&values, (0.5 * floor * sigma).max(1e-6 * range), f64::NEG_INFINITY) {
                     Some((_, statistic, _, _)) if quantized.contains(&name.as_str()) => {
                         quantized_z.push(statistic)
                     }
