@@ -51,6 +51,7 @@ mod quantized;
 mod report;
 mod residual;
 mod run;
+mod schedule;
 mod spring;
 
 pub use answer::{
@@ -71,7 +72,6 @@ use models::{FitOutcome, Model, align};
 use named::{choose, polish, scale_equivalents_of};
 use plant::EffectKind;
 use quantized::quantization_candidates;
-use rayon::prelude::*;
 use run::{Fitted, Folds};
 
 /// Settings of [`diagnose`].
@@ -238,9 +238,14 @@ pub fn diagnose_observed(
     }
     let total = trials.len();
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let fits: Vec<Result<Fitted, WorkflowError>> = trials
-        .par_iter()
-        .map(|trial| {
+    // The costliest refits start first, so that the workers finish together.
+    let costs: Vec<usize> = trials.iter().map(|trial| schedule::trial_cost(&start, trial)).collect();
+    let indices: Vec<usize> = (0..trials.len()).collect();
+    let fits: Vec<Result<Fitted, WorkflowError>> = schedule::largest_first(
+        &indices,
+        |&i| costs[i],
+        |&i| {
+            let trial = &trials[i];
             let result = run::fit_trial(&start, trial, &reference_free, &data, None, 60);
             observer.progress(
                 "candidates",
@@ -248,8 +253,8 @@ pub fn diagnose_observed(
                 total,
             );
             result
-        })
-        .collect();
+        },
+    );
     // The measurement model: ρ per output from the best-fitting model's residual.
     let best = fits
         .iter()
@@ -330,9 +335,11 @@ pub fn diagnose_observed(
             .collect();
         let total = jobs.len();
         let done = std::sync::atomic::AtomicUsize::new(0);
-        let scores: Vec<(Option<usize>, Scored)> = jobs
-            .into_par_iter()
-            .map(|(job, fold)| {
+        let reference_cost = if start.is_linear() { 1 } else { schedule::NONLINEAR_COST };
+        let scores: Vec<(Option<usize>, Scored)> = schedule::largest_first(
+            &jobs,
+            |(job, _)| job.map_or(reference_cost, |i| costs[i]),
+            |&(job, fold)| {
                 let from = match job {
                     None => run::HeldOut::Reference(&start),
                     Some(i) => run::HeldOut::Candidate(&trials[i], candidates[i].model.as_ref()),
@@ -346,8 +353,8 @@ pub fn diagnose_observed(
                     total,
                 );
                 (job, result)
-            })
-            .collect();
+            },
+        );
         let sum = |wanted: Option<usize>| -> Option<Vec<f64>> {
             let parts: Vec<&Vec<f64>> = scores
                 .iter()
