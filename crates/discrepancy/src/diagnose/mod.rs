@@ -52,6 +52,7 @@ mod report;
 mod residual;
 mod run;
 mod schedule;
+mod score;
 mod spring;
 
 pub use answer::{
@@ -152,9 +153,6 @@ pub trait Observe: Sync {
 pub struct Quiet;
 impl Observe for Quiet {}
 
-/// Per-sample held-out log-likelihoods of one refit, or why it failed.
-type Scored = Result<Vec<f64>, WorkflowError>;
-
 /// Runs the workflow without progress reports.
 ///
 /// # Errors
@@ -236,157 +234,18 @@ pub fn diagnose_observed(
     if residuals < 20 * parameters {
         return Err(WorkflowError::TooShort { residuals, parameters, needed: 20 * parameters });
     }
-    let total = trials.len();
-    let done = std::sync::atomic::AtomicUsize::new(0);
-    // The costliest refits start first, so that the workers finish together.
-    let costs: Vec<usize> = trials.iter().map(|trial| schedule::trial_cost(&start, trial)).collect();
-    let indices: Vec<usize> = (0..trials.len()).collect();
-    let fits: Vec<Result<Fitted, WorkflowError>> = schedule::largest_first(
-        &indices,
-        |&i| costs[i],
-        |&i| {
-            let trial = &trials[i];
-            let result = run::fit_trial(&start, trial, &reference_free, &data, None, 60);
-            observer.progress(
-                "candidates",
-                done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
-                total,
-            );
-            result
-        },
-    );
-    // The measurement model: ρ per output from the best-fitting model's residual.
-    let best = fits
-        .iter()
-        .filter_map(|f| f.as_ref().ok())
-        .map(|f| &f.outcome)
-        .chain(std::iter::once(&reference.outcome))
-        .min_by(|a, b| last_error(a).total_cmp(&last_error(b)))
-        .expect("the reference is there");
-    let noise = NoiseModel::of(&best.first().residual());
-    let likelihoods = |outcome: &FitOutcome| noise.log_likelihoods(&outcome.first().residual(), None);
-    let reference_likelihoods = likelihoods(&reference.outcome);
-    let mismatch_gain = evidence::gain(&reference_likelihoods, &likelihoods(&baseline.outcome));
-    let m = (data.n_samples() * data.n_outputs()) as f64;
-    let reference_per_output = evidence::structure_per_output(&reference.outcome.first().residual(), &noise);
-    let reference_structure: f64 = reference_per_output.iter().sum();
-    let share = |left: f64, held: f64| if held > MIN_STRUCTURE { 1.0 - left / held } else { 1.0 };
-    // The share of the structure a refit removes, in all and on a sensor effect's own output
-    // (one AR fit per output serves both).
-    let explained = |outcome: &FitOutcome, output: Option<usize>| {
-        let left = evidence::structure_per_output(&outcome.first().residual(), &noise);
-        let on = |o: usize| {
-            share(left.get(o).copied().unwrap_or(0.0), reference_per_output.get(o).copied().unwrap_or(0.0))
-        };
-        (share(left.iter().sum(), reference_structure), output.map(on))
-    };
-    let mut candidates: Vec<Candidate> = trials
-        .iter()
-        .zip(fits)
-        .map(|(trial, fit)| match fit {
-            Ok(fit) => {
-                let in_sample = evidence::gain(&likelihoods(&fit.outcome), &reference_likelihoods);
-                let parameters = run::effect_parameters(&fit.outcome, trial);
-                // A swap trades the replaced effect's parameters for its own.
-                let added = parameters.len() - usize::from(trial.replaces.is_some()).min(parameters.len());
-                let (structure_explained, sensor_structure_explained) = explained(&fit.outcome, trial.output);
-                let evidence = Evidence {
-                    in_sample,
-                    delta_bic: -2.0 * in_sample + added as f64 * m.ln(),
-                    held_out: None,
-                    strength_z: run::strength_z(&fit.outcome, trial),
-                    reduction: 1.0 - last_error(&fit.outcome) / last_error(&reference.outcome),
-                    whiteness_p: run::whiteness(&fit.outcome),
-                    structure_explained,
-                    sensor_structure_explained,
-                };
-                let verdict = if evidence.delta_bic >= -options.bic_threshold {
-                    Verdict::Weak
-                } else if evidence.strength_z < options.min_strength_z {
-                    Verdict::Unresolved
-                } else {
-                    Verdict::NotShortlisted
-                };
-                Candidate {
-                    kind: trial.kind,
-                    sensor: trial.sensor,
-                    label: trial.label_at(&fit.outcome),
-                    replaces: trial.replaces,
-                    parameters,
-                    evidence,
-                    lattice: None,
-                    verdict,
-                    model: Some(fit.outcome.fitted.clone()),
-                    outcome: Some(fit.outcome),
-                }
-            }
-            Err(e) => failed(trial, e.to_string()),
-        })
-        .collect();
-    // The shortlist, best in-sample evidence first, is scored out of sample.
-    let mut order: Vec<usize> =
-        (0..candidates.len()).filter(|&i| candidates[i].verdict == Verdict::NotShortlisted).collect();
-    order.sort_by(|&a, &b| candidates[a].evidence.delta_bic.total_cmp(&candidates[b].evidence.delta_bic));
-    order.truncate(options.shortlist);
-    if !order.is_empty() {
-        let jobs: Vec<(Option<usize>, usize)> = std::iter::once(None)
-            .chain(order.iter().map(|&i| Some(i)))
-            .flat_map(|job| [0, 1].map(|fold| (job, fold)))
-            .collect();
-        let total = jobs.len();
-        let done = std::sync::atomic::AtomicUsize::new(0);
-        let reference_cost = if start.is_linear() { 1 } else { schedule::NONLINEAR_COST };
-        let scores: Vec<(Option<usize>, Scored)> = schedule::largest_first(
-            &jobs,
-            |(job, _)| job.map_or(reference_cost, |i| costs[i]),
-            |&(job, fold)| {
-                let from = match job {
-                    None => run::HeldOut::Reference(&start),
-                    Some(i) => run::HeldOut::Candidate(&trials[i], candidates[i].model.as_ref()),
-                };
-                let test = &folds.weights[1 - fold];
-                let result = run::held_out(from, fold, &folds, &reference_free, &data)
-                    .map(|residual| noise.log_likelihoods(&residual, Some(test)));
-                observer.progress(
-                    "held-out",
-                    done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
-                    total,
-                );
-                (job, result)
-            },
-        );
-        let sum = |wanted: Option<usize>| -> Option<Vec<f64>> {
-            let parts: Vec<&Vec<f64>> = scores
-                .iter()
-                .filter(|(job, _)| *job == wanted)
-                .map(|(_, r)| r.as_ref().ok())
-                .collect::<Option<Vec<_>>>()?;
-            (parts.len() == 2).then(|| parts[0].iter().zip(parts[1]).map(|(a, b)| a + b).collect())
-        };
-        let base = sum(None);
-        for &i in &order {
-            let c = &mut candidates[i];
-            c.evidence.held_out = sum(Some(i)).as_ref().zip(base.as_ref()).map(|(c, b)| evidence::gain(c, b));
-            c.verdict = match c.evidence.held_out {
-                None => Verdict::Failed("a held-out refit failed".into()),
-                Some(h) if h < options.threshold => Verdict::NotPredictive,
-                _ if c.evidence.structure_explained < MIN_STRUCTURE_EXPLAINED => Verdict::Superficial,
-                _ if c.kind == EffectKind::UnmodeledMode
-                    && c.evidence.structure_explained < MIN_MODE_STRUCTURE_EXPLAINED =>
-                {
-                    Verdict::Superficial
-                }
-                _ if c
-                    .evidence
-                    .sensor_structure_explained
-                    .is_some_and(|s| s < MIN_SENSOR_STRUCTURE_EXPLAINED) =>
-                {
-                    Verdict::LeavesItsOutput
-                }
-                _ => Verdict::Outscored,
-            };
-        }
+    let score::Scores { mut candidates, noise, reference_likelihoods } = score::Scoring {
+        start: &start,
+        reference: &reference,
+        free: &reference_free,
+        data: &data,
+        folds: &folds,
+        options,
+        observer,
     }
+    .score(&trials);
+    let likelihoods = |outcome: &FitOutcome| noise.log_likelihoods(&outcome.first().residual(), None);
+    let mismatch_gain = evidence::gain(&reference_likelihoods, &likelihoods(&baseline.outcome));
     // Quantization: a lattice in the raw readings.
     if wanted(EffectKind::SensorQuantization) {
         candidates.extend(quantization_candidates(&start, &raw, &data, &reference, &reference_free)?);

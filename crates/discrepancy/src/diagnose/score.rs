@@ -1,0 +1,212 @@
+//! Steps 1–6 of the rule (the module's doc): every trial refitted on the whole record and
+//! scored in sample under the measurement model ([`evidence`]), then the shortlist, best
+//! in-sample evidence first, refitted on each fold and scored on the other.
+
+use super::answer::last_error;
+use super::catalog::Trial;
+use super::evidence::{self, NoiseModel};
+use super::run::{self, Fitted, Folds};
+use super::{
+    Candidate, DiagnoseOptions, Evidence, MIN_MODE_STRUCTURE_EXPLAINED, MIN_SENSOR_STRUCTURE_EXPLAINED,
+    MIN_STRUCTURE, MIN_STRUCTURE_EXPLAINED, Observe, Verdict, failed, schedule,
+};
+use crate::WorkflowError;
+use mem::Measurement;
+use models::{FitOutcome, Model};
+use plant::EffectKind;
+
+/// Per-sample held-out log-likelihoods of one refit, or why it failed.
+type Scored = Result<Vec<f64>, WorkflowError>;
+
+/// The scoring of a catalog's trials against a reference: one problem, its parts named.
+pub(super) struct Scoring<'a> {
+    /// The reference's fitted model, to which each trial adds its effect.
+    pub start: &'a Model,
+    /// The reference fit every candidate is compared with.
+    pub reference: &'a Fitted,
+    /// The reference's free parameters, refitted in every candidate too.
+    pub free: &'a [String],
+    /// The record as fitted (decimated if asked).
+    pub data: &'a Measurement,
+    /// Its two folds of alternate blocks.
+    pub folds: &'a Folds,
+    /// The bars a candidate must pass.
+    pub options: &'a DiagnoseOptions,
+    /// Told of every refit that finishes.
+    pub observer: &'a dyn Observe,
+}
+
+/// The candidates as scored, and the measurement model they were scored under.
+pub(super) struct Scores {
+    /// One per trial, in the trials' order, each with its evidence and verdict so far.
+    pub candidates: Vec<Candidate>,
+    /// ρ per output, from the best-fitting model's residual.
+    pub noise: NoiseModel,
+    /// The reference's log-likelihood per output under `noise`.
+    pub reference_likelihoods: Vec<f64>,
+}
+
+impl Scoring<'_> {
+    /// Refits and scores every trial.
+    pub(super) fn score(&self, trials: &[Trial]) -> Scores {
+        let Scoring { start, reference, free: reference_free, data, folds, options, observer } = *self;
+        let total = trials.len();
+        let done = std::sync::atomic::AtomicUsize::new(0);
+        // The costliest refits start first, so that the workers finish together.
+        let costs: Vec<usize> = trials.iter().map(|trial| schedule::trial_cost(start, trial)).collect();
+        let indices: Vec<usize> = (0..trials.len()).collect();
+        let fits: Vec<Result<Fitted, WorkflowError>> = schedule::largest_first(
+            &indices,
+            |&i| costs[i],
+            |&i| {
+                let trial = &trials[i];
+                let result = run::fit_trial(start, trial, reference_free, data, None, 60);
+                observer.progress(
+                    "candidates",
+                    done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
+                    total,
+                );
+                result
+            },
+        );
+        // The measurement model: ρ per output from the best-fitting model's residual.
+        let best = fits
+            .iter()
+            .filter_map(|f| f.as_ref().ok())
+            .map(|f| &f.outcome)
+            .chain(std::iter::once(&reference.outcome))
+            .min_by(|a, b| last_error(a).total_cmp(&last_error(b)))
+            .expect("the reference is there");
+        let noise = NoiseModel::of(&best.first().residual());
+        let likelihoods = |outcome: &FitOutcome| noise.log_likelihoods(&outcome.first().residual(), None);
+        let reference_likelihoods = likelihoods(&reference.outcome);
+        let m = (data.n_samples() * data.n_outputs()) as f64;
+        let reference_per_output =
+            evidence::structure_per_output(&reference.outcome.first().residual(), &noise);
+        let reference_structure: f64 = reference_per_output.iter().sum();
+        let share = |left: f64, held: f64| if held > MIN_STRUCTURE { 1.0 - left / held } else { 1.0 };
+        // The share of the structure a refit removes, in all and on a sensor effect's own output
+        // (one AR fit per output serves both).
+        let explained = |outcome: &FitOutcome, output: Option<usize>| {
+            let left = evidence::structure_per_output(&outcome.first().residual(), &noise);
+            let on = |o: usize| {
+                share(
+                    left.get(o).copied().unwrap_or(0.0),
+                    reference_per_output.get(o).copied().unwrap_or(0.0),
+                )
+            };
+            (share(left.iter().sum(), reference_structure), output.map(on))
+        };
+        let mut candidates: Vec<Candidate> = trials
+            .iter()
+            .zip(fits)
+            .map(|(trial, fit)| match fit {
+                Ok(fit) => {
+                    let in_sample = evidence::gain(&likelihoods(&fit.outcome), &reference_likelihoods);
+                    let parameters = run::effect_parameters(&fit.outcome, trial);
+                    // A swap trades the replaced effect's parameters for its own.
+                    let added =
+                        parameters.len() - usize::from(trial.replaces.is_some()).min(parameters.len());
+                    let (structure_explained, sensor_structure_explained) =
+                        explained(&fit.outcome, trial.output);
+                    let evidence = Evidence {
+                        in_sample,
+                        delta_bic: -2.0 * in_sample + added as f64 * m.ln(),
+                        held_out: None,
+                        strength_z: run::strength_z(&fit.outcome, trial),
+                        reduction: 1.0 - last_error(&fit.outcome) / last_error(&reference.outcome),
+                        whiteness_p: run::whiteness(&fit.outcome),
+                        structure_explained,
+                        sensor_structure_explained,
+                    };
+                    let verdict = if evidence.delta_bic >= -options.bic_threshold {
+                        Verdict::Weak
+                    } else if evidence.strength_z < options.min_strength_z {
+                        Verdict::Unresolved
+                    } else {
+                        Verdict::NotShortlisted
+                    };
+                    Candidate {
+                        kind: trial.kind,
+                        sensor: trial.sensor,
+                        label: trial.label_at(&fit.outcome),
+                        replaces: trial.replaces,
+                        parameters,
+                        evidence,
+                        lattice: None,
+                        verdict,
+                        model: Some(fit.outcome.fitted.clone()),
+                        outcome: Some(fit.outcome),
+                    }
+                }
+                Err(e) => failed(trial, e.to_string()),
+            })
+            .collect();
+        // The shortlist, best in-sample evidence first, is scored out of sample.
+        let mut order: Vec<usize> =
+            (0..candidates.len()).filter(|&i| candidates[i].verdict == Verdict::NotShortlisted).collect();
+        order.sort_by(|&a, &b| candidates[a].evidence.delta_bic.total_cmp(&candidates[b].evidence.delta_bic));
+        order.truncate(options.shortlist);
+        if !order.is_empty() {
+            let jobs: Vec<(Option<usize>, usize)> = std::iter::once(None)
+                .chain(order.iter().map(|&i| Some(i)))
+                .flat_map(|job| [0, 1].map(|fold| (job, fold)))
+                .collect();
+            let total = jobs.len();
+            let done = std::sync::atomic::AtomicUsize::new(0);
+            let reference_cost = if start.is_linear() { 1 } else { schedule::NONLINEAR_COST };
+            let scores: Vec<(Option<usize>, Scored)> = schedule::largest_first(
+                &jobs,
+                |(job, _)| job.map_or(reference_cost, |i| costs[i]),
+                |&(job, fold)| {
+                    let from = match job {
+                        None => run::HeldOut::Reference(start),
+                        Some(i) => run::HeldOut::Candidate(&trials[i], candidates[i].model.as_ref()),
+                    };
+                    let test = &folds.weights[1 - fold];
+                    let result = run::held_out(from, fold, folds, reference_free, data)
+                        .map(|residual| noise.log_likelihoods(&residual, Some(test)));
+                    observer.progress(
+                        "held-out",
+                        done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
+                        total,
+                    );
+                    (job, result)
+                },
+            );
+            let sum = |wanted: Option<usize>| -> Option<Vec<f64>> {
+                let parts: Vec<&Vec<f64>> = scores
+                    .iter()
+                    .filter(|(job, _)| *job == wanted)
+                    .map(|(_, r)| r.as_ref().ok())
+                    .collect::<Option<Vec<_>>>()?;
+                (parts.len() == 2).then(|| parts[0].iter().zip(parts[1]).map(|(a, b)| a + b).collect())
+            };
+            let base = sum(None);
+            for &i in &order {
+                let c = &mut candidates[i];
+                c.evidence.held_out =
+                    sum(Some(i)).as_ref().zip(base.as_ref()).map(|(c, b)| evidence::gain(c, b));
+                c.verdict = match c.evidence.held_out {
+                    None => Verdict::Failed("a held-out refit failed".into()),
+                    Some(h) if h < options.threshold => Verdict::NotPredictive,
+                    _ if c.evidence.structure_explained < MIN_STRUCTURE_EXPLAINED => Verdict::Superficial,
+                    _ if c.kind == EffectKind::UnmodeledMode
+                        && c.evidence.structure_explained < MIN_MODE_STRUCTURE_EXPLAINED =>
+                    {
+                        Verdict::Superficial
+                    }
+                    _ if c
+                        .evidence
+                        .sensor_structure_explained
+                        .is_some_and(|s| s < MIN_SENSOR_STRUCTURE_EXPLAINED) =>
+                    {
+                        Verdict::LeavesItsOutput
+                    }
+                    _ => Verdict::Outscored,
+                };
+            }
+        }
+        Scores { candidates, noise, reference_likelihoods }
+    }
+}
