@@ -134,7 +134,11 @@ pub(super) fn max_step(model: &Model) -> f64 {
 }
 
 /// The model of a trial: `start` with the effect and its bounds.
-fn with_effect(start: &Model, trial: &Trial, effect: &ModelEffect) -> Result<Model, WorkflowError> {
+pub(super) fn with_effect(
+    start: &Model,
+    trial: &Trial,
+    effect: &ModelEffect,
+) -> Result<Model, WorkflowError> {
     let mut model = start.clone();
     if let (Some(kind), Some(slewing)) = (trial.replaces, model.as_slewing_mut()) {
         slewing.remove_effect(kind, None)?;

@@ -5,21 +5,24 @@
 //! other has finished; the results are the same either way, only their finishing time differs.
 
 use super::catalog::Trial;
+use super::run;
 use models::Model;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// How much one refit of a nonlinear model costs against a linear one: a nonlinear response is
 /// stepped through every substep of the record, a linear one is one exponential a sample.
-pub(super) const NONLINEAR_COST: usize = 20;
+const NONLINEAR_COST: usize = 20;
 
-/// The relative cost of a trial's refit: its starts, each stepped through the record when the
-/// effect makes the model nonlinear.
-pub(super) fn trial_cost(start: &Model, trial: &Trial) -> usize {
-    let starts = 1 + trial.alternatives.len();
-    let mut model = start.clone();
-    let linear = model.add_effect(trial.effect.clone()).is_ok() && model.is_linear();
-    starts * if linear { 1 } else { NONLINEAR_COST }
+/// The relative cost of one refit of `model`.
+pub(super) fn refit_cost(model: &Model) -> usize {
+    if model.is_linear() { 1 } else { NONLINEAR_COST }
+}
+
+/// The relative cost of one refit of a trial's model (the reference with the trial's effect, as
+/// [`run::with_effect`] builds it; priced as nonlinear if it cannot be built).
+pub(super) fn trial_refit_cost(start: &Model, trial: &Trial) -> usize {
+    run::with_effect(start, trial, &trial.effect).map_or(NONLINEAR_COST, |model| refit_cost(&model))
 }
 
 /// `f` applied to every job, on rayon's workers, the costliest job (by `cost`) started first;

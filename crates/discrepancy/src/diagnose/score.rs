@@ -53,11 +53,12 @@ impl Scoring<'_> {
         let total = trials.len();
         let done = std::sync::atomic::AtomicUsize::new(0);
         // The costliest refits start first, so that the workers finish together.
-        let costs: Vec<usize> = trials.iter().map(|trial| schedule::trial_cost(start, trial)).collect();
+        // One refit of each trial's model; the full refit makes one per start, a held-out refit one.
+        let refit: Vec<usize> = trials.iter().map(|trial| schedule::trial_refit_cost(start, trial)).collect();
         let indices: Vec<usize> = (0..trials.len()).collect();
         let fits: Vec<Result<Fitted, WorkflowError>> = schedule::largest_first(
             &indices,
-            |&i| costs[i],
+            |&i| refit[i] * (1 + trials[i].alternatives.len()),
             |&i| {
                 let trial = &trials[i];
                 let result = run::fit_trial(start, trial, reference_free, data, None, 60);
@@ -154,10 +155,10 @@ impl Scoring<'_> {
                 .collect();
             let total = jobs.len();
             let done = std::sync::atomic::AtomicUsize::new(0);
-            let reference_cost = if start.is_linear() { 1 } else { schedule::NONLINEAR_COST };
+            let reference_cost = schedule::refit_cost(start);
             let scores: Vec<(Option<usize>, Scored)> = schedule::largest_first(
                 &jobs,
-                |(job, _)| job.map_or(reference_cost, |i| costs[i]),
+                |(job, _)| job.map_or(reference_cost, |i| refit[i]),
                 |&(job, fold)| {
                     let from = match job {
                         None => run::HeldOut::Reference(start),
