@@ -31,17 +31,23 @@ VARIANTS = {
 def variant(set_dir, out, args, rows_of):
     """Writes one variant of `set_dir` to `out`: the models as they are, each record's rows
     passed through `rows_of`, every case's CLI options replaced by `args`.  Written to a
-    sibling folder first and renamed when whole, so `out` is complete or absent."""
+    sibling folder first (which main() checked is absent) and renamed when whole, so `out` is
+    complete or absent."""
     partial = out + ".partial"
-    shutil.rmtree(partial, ignore_errors=True)
     os.makedirs(os.path.join(partial, "data"))
     shutil.copytree(os.path.join(set_dir, "models"), os.path.join(partial, "models"))
     with open(os.path.join(set_dir, "truth.json")) as f:
         truth = json.load(f)
     for case in truth["cases"]:
+        # A record is written inside the variant only: a `data` path that is absolute or climbs
+        # out with `..` would otherwise land anywhere, the set read included.
+        target = os.path.realpath(os.path.join(partial, case["data"]))
+        if not inside(target, os.path.realpath(os.path.join(partial, "data"))):
+            sys.exit(f"{set_dir}/truth.json: case {case.get('name')!r} has data {case['data']!r} outside "
+                     f"its data/ folder; nothing of {out} is kept but {partial}")
         with open(os.path.join(set_dir, case["data"]), newline="") as f:
             rows = list(csv.reader(f))
-        with open(os.path.join(partial, case["data"]), "w", newline="") as f:
+        with open(target, "w", newline="") as f:
             w = csv.writer(f)
             w.writerow(rows[0])
             w.writerows(rows_of(rows[1:]))
@@ -68,10 +74,13 @@ def main():
         sys.exit(f"{set_dir}/truth.json: not found; SET_DIR is a folder with truth.json, models/, data/")
     outs = {name: os.path.join(out_dir, name) for name in VARIANTS}
     for name, out in outs.items():
-        if inside(out, set_dir) or inside(set_dir, out):
-            sys.exit(f"refusing to write {out}: it overlaps the set read, {set_dir}; choose another OUT_DIR")
-        if os.path.lexists(out):
-            sys.exit(f"{out} exists; remove it or choose another OUT_DIR (nothing is overwritten)")
+        # The variant and the folder it is first written to: neither may overlap the set read
+        # nor exist already (nothing is deleted or overwritten).
+        for path in (out, out + ".partial"):
+            if inside(path, set_dir) or inside(set_dir, path):
+                sys.exit(f"refusing to write {path}: it overlaps the set read, {set_dir}; choose another OUT_DIR")
+            if os.path.lexists(path):
+                sys.exit(f"{path} exists; remove it or choose another OUT_DIR (nothing is overwritten)")
     for name, (args, rows_of) in VARIANTS.items():
         variant(set_dir, outs[name], args, rows_of)
         print(f"wrote {os.path.join(out_dir, name)} ({' '.join(args) or 'no --decimate'})")
