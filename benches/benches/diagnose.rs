@@ -12,6 +12,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use discrepancy::{DiagnoseOptions, diagnose, quantization};
+use mem::ResponseModel;
 use models::Model;
 use std::hint::black_box;
 use std::path::Path;
@@ -74,6 +75,24 @@ fn bench_backlash(c: &mut Criterion) {
             b.iter(|| response.simulate(black_box(&p), 0.0, 1.0 / 12.8, &mut alone).unwrap())
         });
     }
+    // A hub spring without its cubic part (the rival `hub_stiffness`): the exact path the
+    // model now takes, against the exponential integrator's substeps it took before.
+    let servo = plant::assemble::servo_stiffness(with("").constants());
+    let spring = with(&format!("CubicStiffness(coefficient: 0.0, linear: Some({:e}))", 0.05 * servo));
+    let free = ["cv", "kp", "hub_stiffness"];
+    let p: Vec<f64> = free.iter().map(|n| spring.get(spring.parameter(n).unwrap())).collect();
+    let grid = mem::Grid::free(1.0 / 12.8);
+    let exact = Model::Slewing(spring.clone())
+        .response_with(&free, models::Integrator::Exponential { max_step: 1.0 / 640.0 })
+        .unwrap();
+    let stepped = models::ExponentialResponse::new(spring, &free).unwrap().with_max_step(1.0 / 640.0);
+    let mut out = expm::Response::zeros(385, 3, free.len());
+    group.bench_function("respond_12.8Hz/hub_spring_exact", |b| {
+        b.iter(|| exact.respond(black_box(&p), &grid, &mut out).unwrap())
+    });
+    group.bench_function("respond_12.8Hz/hub_spring_substeps", |b| {
+        b.iter(|| stepped.respond(black_box(&p), &grid, &mut out).unwrap())
+    });
     let model = Model::load(&fixture("slewing.ron")).unwrap();
     let mut options = DiagnoseOptions::new(&["cv", "kp"]);
     options.decimate = Some(10);

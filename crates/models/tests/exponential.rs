@@ -167,3 +167,41 @@ fn outputs_alone_are_the_bits_of_the_full_response() {
         same(response.as_ref(), &q, &sensed);
     }
 }
+
+/// A hub spring without its cubic part is linear: with `cubic_stiffness` fixed at zero the
+/// exact exponential path applies (k₁ in A), and its response and sensitivities are those of
+/// the adaptive solver; freed, the cubic part sends the model down the nonlinear path.
+#[test]
+fn a_hub_spring_without_its_cubic_part_takes_the_exact_path() {
+    let bare = SlewingModel::paper();
+    let k1 = 0.3 * plant::assemble::servo_stiffness(bare.constants());
+    let model = with_effects(&format!("CubicStiffness(coefficient: 0.0, linear: Some({k1:e}))"));
+    let id = |n: &str| model.parameter(n).unwrap();
+    assert!(model.is_linear_for(&[id("cv"), id("kp"), id("hub_stiffness")]));
+    assert!(!model.is_linear_for(&[id("cv"), id("hub_stiffness"), id("cubic_stiffness")]));
+    assert!(!with_effects("CubicStiffness(coefficient: 0.5)").is_linear_for(&[id("cv")]));
+    let names = ["cv", "kp", "hub_stiffness"];
+    let p: Vec<f64> = names.iter().map(|n| model.get(id(n))).collect();
+    let (k, h) = (1281, 1.0 / 128.0);
+    let exact = models::Model::Slewing(model.clone())
+        .response_with(&names, models::Integrator::Exponential { max_step: DEFAULT_MAX_STEP })
+        .unwrap();
+    let a = respond(exact.as_ref(), &p, k, h);
+    let adaptive = NonlinearResponse::new(model.clone(), &names).unwrap().with_tolerances(1e-11, 1e-13);
+    let b = respond(&adaptive, &p, k, h);
+    for o in 0..3 {
+        let s = (0..k).map(|t| b.outputs[(t, o)].abs()).fold(0.0, f64::max);
+        let err = (0..k).map(|t| (a.outputs[(t, o)] - b.outputs[(t, o)]).abs()).fold(0.0, f64::max);
+        assert!(err < 1e-7 * s, "output {o}: {err:.3e} of {s:.3e}");
+    }
+    for i in 0..names.len() {
+        let s = scale(&b.sensitivities, |c| c == i);
+        let err =
+            (0..3 * k).map(|r| (a.sensitivities[(r, i)] - b.sensitivities[(r, i)]).abs()).fold(0.0, f64::max);
+        assert!(s > 0.0 && err < 1e-6 * s, "∂/∂{}: {err:.3e} of {s:.3e}", names[i]);
+    }
+    // The spring changes the response (the hub is held back toward rest).
+    let plain = respond(&ExponentialResponse::new(bare.clone(), &["cv", "kp"]).unwrap(), &p[..2], k, h);
+    let moved = (0..k).map(|t| (plain.outputs[(t, 0)] - a.outputs[(t, 0)]).abs()).fold(0.0, f64::max);
+    assert!(moved > 1e-3 * scale(&a.outputs, |c| c == 0), "the spring moves θ by {moved:.3e}");
+}

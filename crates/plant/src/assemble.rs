@@ -149,6 +149,14 @@ pub fn second_order<D: Scalar>(c: &Constants<D>) -> Result<SecondOrder<D>, Plant
     if let Some(r) = layout.motor {
         backlash_gear(c, r, &mut m, &mut d, &mut k, &mut b, &mut servo_vector);
     }
+    // A hub spring's linear part k₁θ is linear physics: it joins K at the hub (θ, the hub's
+    // angle, with or without a backlash's motor). Its cubic part is a force
+    // ([`crate::nonlinear`]).
+    for e in &c.effects {
+        if let Effect::CubicStiffness { linear: Some(k1), .. } = e {
+            k[(0, 0)] += *k1;
+        }
+    }
     Ok(SecondOrder { m, d, k, b, modes, servo_stiffness: ks, servo_vector })
 }
 

@@ -3,7 +3,7 @@
 use crate::assemble::{Layout, first_order, second_order};
 use crate::file::{ModelFile, locate};
 use crate::sensors::{Sensor, output_matrix};
-use crate::{Constants, ParamId, PlantError};
+use crate::{Constants, Effect, ParamId, PlantError};
 use faer::Mat;
 use nalgebra::DMatrix;
 use num_dual::Dual64;
@@ -114,6 +114,19 @@ impl SlewingModel {
     /// exact matrix-exponential path applies.
     pub fn is_linear(&self) -> bool {
         !self.constants.effects.iter().any(|e| e.is_nonlinear())
+    }
+
+    /// Whether the model is linear with `free` the parameters that may move: no nonlinear
+    /// effect but, perhaps, a hub spring whose cubic part is zero and stays so (its
+    /// `cubic_stiffness` not in `free`), leaving its linear part k₁θ, which is in A
+    /// ([`crate::assemble::second_order`]). The exact exponential path then applies.
+    pub fn is_linear_for(&self, free: &[ParamId]) -> bool {
+        self.constants.effects.iter().all(|e| match e {
+            Effect::CubicStiffness { coefficient, .. } => {
+                *coefficient == 0.0 && !free.contains(&ParamId::CubicStiffness)
+            }
+            e => !e.is_nonlinear(),
+        })
     }
 
     /// The names of the measured inputs (CSV columns) that drive the model.

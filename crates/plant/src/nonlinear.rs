@@ -6,7 +6,8 @@
 //!   −k_s θ_c − (K_bK_t/R_a) θ̇, so Δτ_s = K_t i − (−k_s θ_c − K_bK_t/R_a θ̇) enters through the
 //!   servo direction [1, Γ_1, …] (θ_c is θ, or the delayed θ_d with a time delay).
 //! * Dry friction, drag and a cubic stiffness are hub torques
-//!   τ_h = −F_c tanh(θ̇/v_s) − c_d|θ̇|ᵖ sign θ̇ − k₃θ³.
+//!   τ_h = −F_c tanh(θ̇/v_s) − c_d|θ̇|ᵖ sign θ̇ − k₃θ³ (a hub spring's linear part k₁θ is in A,
+//!   [`crate::assemble::second_order`]).
 //! * Backlash: the linear part holds the gear as a spring k_g(θ_m − θ) between motor and hub;
 //!   the dead band takes back τ_c = k_g sat_{b/2}(θ_m − θ) (the smooth limiter), from the hub
 //!   and to the motor, so that the gear passes k_g dz_b(θ_m − θ). The servo direction is then
@@ -35,7 +36,8 @@ pub struct Dynamics<D: Scalar> {
     voltage: Option<(D, bool)>,
     coulomb: Option<(D, f64)>,
     drag: Option<(D, Option<D>)>,
-    cubic: Option<(D, Option<D>)>,
+    /// k₃ of a hub spring (its linear part is in A).
+    cubic: Option<D>,
     /// Backlash: k_g and half the dead band.
     backlash: Option<(D, D)>,
     amplifier_voltage_gain: D,
@@ -69,7 +71,7 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
                 coulomb = Some((*torque, *smoothing_velocity))
             }
             Effect::QuadraticDrag { hub, exponent } => drag = Some((*hub, *exponent)),
-            Effect::CubicStiffness { coefficient, linear } => cubic = Some((*coefficient, *linear)),
+            Effect::CubicStiffness { coefficient, .. } => cubic = Some(*coefficient),
             Effect::Backlash { dead_band, .. } => {
                 let (kg, _) = crate::assemble::gear(c).expect("a backlash effect has a gear");
                 backlash = Some((kg, *dead_band * D::from(0.5)));
@@ -154,10 +156,7 @@ impl<D: Scalar> Dynamics<D> {
             out.push(c);
             out.extend(p);
         }
-        if let Some((k3, k1)) = self.cubic {
-            out.push(k3);
-            out.extend(k1);
-        }
+        out.extend(self.cubic);
         if let Some((kg, half)) = self.backlash {
             out.extend([kg, half]);
         }
@@ -209,11 +208,8 @@ impl<D: Scalar> Dynamics<D> {
                 None => c_d * abs(rate) * rate,
             };
         }
-        if let Some((k3, k1)) = self.cubic {
+        if let Some(k3) = self.cubic {
             hub -= k3 * theta * theta * theta;
-            if let Some(k1) = k1 {
-                hub -= k1 * theta;
-            }
         }
         (servo, hub)
     }

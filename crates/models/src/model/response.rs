@@ -59,7 +59,11 @@ impl Model {
         let is_sensor = |name: &str| sensor_effects.iter().any(|(n, _)| n == name);
         let physics: Vec<&str> = free.iter().copied().filter(|n| !is_sensor(n)).collect();
         let inner: Box<dyn ResponseModel + Send + Sync> = match self {
-            Model::Slewing(m) if m.is_linear() => {
+            Model::Slewing(m)
+                if m.is_linear_for(
+                    &physics.iter().filter_map(|n| m.parameter(n).ok()).collect::<Vec<_>>(),
+                ) =>
+            {
                 Box::new(SlewingFitModel::new(m.clone(), &physics)?.response())
             }
             Model::Slewing(m) => match integrator {
