@@ -4,10 +4,11 @@
 //! evaluation of its expressions with their exact derivatives (A, C, x(0) and ∂/∂P over
 //! num-dual), which each Gauss–Newton iteration does once; and the building with a nonlinear
 //! spring at q1 simulated by the exponential integrator with its sensitivities, with and without
-//! a stiffness that changes with time (the force then reads the time as well).
+//! a stiffness that changes with time (the force then reads the time as well); and a linear
+//! damper at q3 on the exact path against the exponential integrator's substeps.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use mem::LinearModel;
+use mem::{LinearModel, ResponseModel};
 use models::{FitRequest, Model, StructureFitModel};
 use std::hint::black_box;
 use std::path::Path;
@@ -64,6 +65,20 @@ fn bench_structure(c: &mut Criterion) {
             b.iter(|| response.respond(black_box(&p), &mem::Grid::free(0.005), &mut out).unwrap())
         });
     }
+    // A linear damper at q3 (a drag of exponent 1 held there, the diagnosis's rival): the exact
+    // path the model now takes, against the exponential integrator's substeps it took before.
+    let model = with("Drag(coordinate: \"q3\", coefficient: 800.0, exponent: 1.0)");
+    let free = ["k1", "k2", "k3", "alpha", "beta", "drag_q3"];
+    let p: Vec<f64> = free.iter().map(|n| model.value(n).unwrap()).collect();
+    let exact = model.response(&free).unwrap();
+    let stepped = models::StructureExponential::new(model.as_structure().unwrap().clone(), &free).unwrap();
+    let mut out = expm::Response::zeros(2001, 2, free.len());
+    group.bench_function("respond/linear_damper_exact", |b| {
+        b.iter(|| exact.respond(black_box(&p), &mem::Grid::free(0.005), &mut out).unwrap())
+    });
+    group.bench_function("respond/linear_damper_substeps", |b| {
+        b.iter(|| stepped.respond(black_box(&p), &mem::Grid::free(0.005), &mut out).unwrap())
+    });
     group.finish();
 }
 

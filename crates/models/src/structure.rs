@@ -83,6 +83,6 @@ impl StateSpaceModel for StructureFitModel {
         for (slot, value) in self.free.iter().zip(p) {
             all[*slot] = *value;
         }
-        Ok(self.model.state_space(&all)?)
+        Ok(self.model.linear_state_space(&all)?)
     }
 }

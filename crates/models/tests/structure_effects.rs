@@ -34,6 +34,49 @@ fn building() -> ([[f64; 3]; 3], [[f64; 3]; 3]) {
     (k, d)
 }
 
+/// The largest error of outputs q1 and q3 against the Runge–Kutta's, and q3's peak there.
+fn worst_against(out: &Response, reference: &[[f64; 3]]) -> (f64, f64) {
+    let peak = reference.iter().map(|r| r[1].abs()).fold(0.0, f64::max);
+    let worst = (0..reference.len())
+        .map(|s| {
+            (out.outputs[(s, 0)] - reference[s][0]).abs().max((out.outputs[(s, 1)] - reference[s][1]).abs())
+        })
+        .fold(0.0, f64::max);
+    (worst, peak)
+}
+
+/// Holds sensitivity column `i` of `out` (the response at `p`, two outputs) to central
+/// differences of the response with relative step 10⁻⁵, within `tolerance` of the column's scale.
+fn assert_central_differences(
+    response: &dyn ResponseModel,
+    p: &[f64],
+    out: &Response,
+    i: usize,
+    h: f64,
+    tolerance: f64,
+) {
+    let k = out.outputs.nrows();
+    let step = 1e-5 * p[i].abs();
+    let shifted = |s: f64| {
+        let mut q = p.to_vec();
+        q[i] += s;
+        respond(response, &q, k, h).outputs
+    };
+    let (plus, minus) = (shifted(step), shifted(-step));
+    let scale = (0..k * 2).map(|r| out.sensitivities[(r, i)].abs()).fold(0.0, f64::max);
+    assert!(scale > 0.0, "sensitivity {i} is zero");
+    for s in 0..k {
+        for o in 0..2 {
+            let fd = (plus[(s, o)] - minus[(s, o)]) / (2.0 * step);
+            let exact = out.sensitivities[(s * 2 + o, i)];
+            assert!(
+                (fd - exact).abs() < tolerance * scale,
+                "sensitivity {i} at sample {s}, output {o}: {exact:e} vs {fd:e}"
+            );
+        }
+    }
+}
+
 /// The asymmetric part k₂ of the spring at q1 in [`EFFECTS`].
 const QUADRATIC: f64 = 2e8;
 /// Its quintic part k₅.
@@ -45,11 +88,24 @@ const RATE: f64 = -2e5;
 /// (k₂ = [`QUADRATIC`], k₅ = [`QUINTIC`], k₁′ = [`RATE`]), drag at q3 and dry friction at q2;
 /// returns q1, q3, and the acceleration of q3 at every `h`.
 fn rk4(k_samples: usize, h: f64, cubic: f64, drag: (f64, f64), friction: (f64, f64)) -> Vec<[f64; 3]> {
+    rk4_with(k_samples, h, (cubic, 1.0), drag, friction)
+}
+
+/// [`rk4`] with the spring's k₂, k₅ and k₁′ scaled by `spring.1` (0: a cubic spring alone).
+fn rk4_with(
+    k_samples: usize,
+    h: f64,
+    spring: (f64, f64),
+    drag: (f64, f64),
+    friction: (f64, f64),
+) -> Vec<[f64; 3]> {
     let (k, d) = building();
+    let (cubic, others) = spring;
     let rhs = |t: f64, x: &[f64; 6]| -> [f64; 6] {
         let (q, v) = ([x[0], x[1], x[2]], [x[3], x[4], x[5]]);
         let mut f = [0.0; 3];
-        f[0] -= cubic * q[0].powi(3) + QUADRATIC * q[0] * q[0] + QUINTIC * q[0].powi(5) + RATE * t * q[0];
+        f[0] -= cubic * q[0].powi(3)
+            + others * (QUADRATIC * q[0] * q[0] + QUINTIC * q[0].powi(5) + RATE * t * q[0]);
         f[2] -= drag.0 * v[2] * v[2].abs().powf(drag.1 - 1.0);
         f[1] -= friction.0 * v[1] / (v[1] * v[1] + friction.1 * friction.1).sqrt();
         let mut out = [v[0], v[1], v[2], 0.0, 0.0, 0.0];
@@ -90,12 +146,7 @@ fn forces_at_coordinates_match_an_independent_runge_kutta() {
     let (k, h) = (400, 0.005);
     let reference = rk4(k, h, 3e10, (800.0, 2.0), (150.0, 0.01));
     let out = respond(model.response(&[]).unwrap().as_ref(), &[], k, h);
-    let peak = reference.iter().map(|r| r[1].abs()).fold(0.0, f64::max);
-    let worst = (0..k)
-        .map(|s| {
-            (out.outputs[(s, 0)] - reference[s][0]).abs().max((out.outputs[(s, 1)] - reference[s][1]).abs())
-        })
-        .fold(0.0, f64::max);
+    let (worst, peak) = worst_against(&out, &reference);
     assert!(worst < 1e-4 * peak, "worst {worst:e} against a peak {peak:e}");
     // The forces do act: the linear building is far from this response.
     let linear = Model::from_ron(FILE, "building.ron").unwrap();
@@ -141,6 +192,32 @@ fn an_acceleration_output_reads_the_forces_too() {
     assert!(worst < 1e-3 * peak, "worst {worst:e} against a peak {peak:e}");
 }
 
+/// A drag of exponent 1 held there is a linear damper: with `drag_exponent_q3` fixed the exact
+/// exponential path applies (c in D at q3), and it follows the hand-written Runge–Kutta; freed,
+/// the exponent sends the model down the nonlinear path.
+#[test]
+fn a_linear_damper_takes_the_exact_path() {
+    let c = 4000.0;
+    let model = with_effects(&format!("Drag(coordinate: \"q3\", coefficient: {c:e}, exponent: 1.0)"));
+    let structure = model.as_structure().unwrap();
+    assert!(structure.is_linear_for(&["k1", "beta", "drag_q3"]));
+    assert!(!structure.is_linear_for(&["k1", "drag_q3", "drag_exponent_q3"]));
+    let free = ["k1", "beta", "drag_q3"];
+    let p: Vec<f64> = free.iter().map(|n| model.value(n).unwrap()).collect();
+    let (k, h) = (400, 0.005);
+    let reference = rk4_with(k, h, (0.0, 0.0), (c, 1.0), (0.0, 0.01));
+    let response = model.response(&free).unwrap();
+    let out = respond(response.as_ref(), &p, k, h);
+    let (worst, peak) = worst_against(&out, &reference);
+    assert!(worst < 1e-7 * peak, "worst {worst:e} against a peak {peak:e}");
+    // The damper acts: the bare building is far from it.
+    let plain = rk4_with(k, h, (0.0, 0.0), (0.0, 1.0), (0.0, 0.01));
+    let apart = (0..k).map(|s| (plain[s][1] - reference[s][1]).abs()).fold(0.0, f64::max);
+    assert!(apart > 1e3 * worst, "the damper changes the response by {apart:e} only");
+    // Its sensitivity is the derivative of the response.
+    assert_central_differences(response.as_ref(), &p, &out, 2, h, 1e-6);
+}
+
 #[test]
 fn force_sensitivities_are_central_differences() {
     let model = with_effects(EFFECTS);
@@ -159,25 +236,8 @@ fn force_sensitivities_are_central_differences() {
     let p: Vec<f64> = free.iter().map(|n| model.value(n).unwrap()).collect();
     let (k, h) = (300, 0.005);
     let out = respond(response.as_ref(), &p, k, h);
-    for (i, name) in free.iter().enumerate() {
-        let step = 1e-5 * p[i].abs();
-        let shifted = |s: f64| {
-            let mut q = p.clone();
-            q[i] += s;
-            respond(response.as_ref(), &q, k, h).outputs
-        };
-        let (plus, minus) = (shifted(step), shifted(-step));
-        let scale = (0..k * 2).map(|r| out.sensitivities[(r, i)].abs()).fold(0.0, f64::max);
-        for s in 0..k {
-            for o in 0..2 {
-                let fd = (plus[(s, o)] - minus[(s, o)]) / (2.0 * step);
-                let exact = out.sensitivities[(s * 2 + o, i)];
-                assert!(
-                    (fd - exact).abs() < 1e-5 * scale,
-                    "{name} at sample {s}, output {o}: {exact:e} vs {fd:e}"
-                );
-            }
-        }
+    for i in 0..free.len() {
+        assert_central_differences(response.as_ref(), &p, &out, i, h, 1e-5);
     }
 }
 

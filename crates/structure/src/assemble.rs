@@ -160,13 +160,26 @@ impl Compiled {
 
     /// A, C, x(0), B, D at the parameter values `p`.
     pub fn state_space<D: Scalar>(&self, p: &[D]) -> Result<StateSpace<D>, StructureError> {
+        self.state_space_damped(p, &[])
+    }
+
+    /// [`state_space`](Self::state_space) with linear dampers c_j added to D at coordinates j
+    /// (`(j, c_j)`, a second-order model's; ignored for a first-order one).
+    pub fn state_space_damped<D: Scalar>(
+        &self,
+        p: &[D],
+        dampers: &[(usize, D)],
+    ) -> Result<StateSpace<D>, StructureError> {
         let values = self.values(p)?;
         let (a, b, x0, n_coordinates) = match &self.dynamics {
             Dynamics::Second { n, q0, v0, .. } => {
-                let model = self.second_order_at(&values)?.ok_or_else(|| StructureError::Assembly {
+                let mut model = self.second_order_at(&values)?.ok_or_else(|| StructureError::Assembly {
                     part: "the second-order model".into(),
                     reason: "internal inconsistency; please report it".into(),
                 })?;
+                for &(j, c) in dampers {
+                    model.d[(j, j)] += c;
+                }
                 for (part, m) in [("M", &model.m), ("D", &model.d), ("K", &model.k)] {
                     if let Some(entry) = non_finite(m, part) {
                         return Err(StructureError::Assembly {

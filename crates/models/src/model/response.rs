@@ -74,7 +74,7 @@ impl Model {
                     Box::new(ExponentialResponse::new(m.clone(), &physics)?.with_max_step(max_step))
                 }
             },
-            Model::Structure(m) if m.is_linear() => {
+            Model::Structure(m) if m.is_linear_for(&physics) => {
                 Box::new(StructureFitModel::new(m.clone(), &physics)?.response())
             }
             Model::Structure(m) => {

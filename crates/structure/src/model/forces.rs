@@ -85,6 +85,21 @@ impl StructureModel {
         !self.effects.iter().any(Effect::is_force)
     }
 
+    /// Whether the model is linear with `free` the parameters that may move: its only forces,
+    /// if any, are drags of exponent 1 whose exponent is not in `free` — linear dampers c·v,
+    /// which [`linear_state_space`](Self::linear_state_space) puts in D. The exact exponential
+    /// path then applies.
+    pub fn is_linear_for(&self, free: &[&str]) -> bool {
+        let outputs = self.output_names();
+        self.effects.iter().filter(|e| e.is_force()).all(|e| match e {
+            Effect::Drag { exponent, .. } => {
+                *exponent == 1.0
+                    && e.parameters(&outputs).get(1).is_some_and(|(n, _)| !free.contains(&n.as_str()))
+            }
+            _ => false,
+        })
+    }
+
     /// The quantization step of each output, if its sensor is quantized.
     pub fn quantization(&self) -> Vec<Option<f64>> {
         self.output_names()

@@ -312,12 +312,40 @@ impl StructureModel {
     /// the structure's; sensor effects and forces are not part of the linear model (see
     /// [`crate::effects`]).
     pub fn state_space<D: Scalar>(&self, p: &[D]) -> Result<StateSpace<D>, StructureError> {
+        self.assemble(p, false)
+    }
+
+    /// The linear model at `p` when it is linear for the parameters that move
+    /// ([`is_linear_for`](Self::is_linear_for)): [`state_space`](Self::state_space) with each
+    /// drag of exponent 1, c·v, in D at its coordinate (linear physics there, a force on the
+    /// nonlinear path).
+    ///
+    /// # Errors
+    /// As [`state_space`](Self::state_space).
+    pub fn linear_state_space<D: Scalar>(&self, p: &[D]) -> Result<StateSpace<D>, StructureError> {
+        self.assemble(p, true)
+    }
+
+    fn assemble<D: Scalar>(&self, p: &[D], linear_drag: bool) -> Result<StateSpace<D>, StructureError> {
         let n_file = self.checked.params.len();
         let expected = self.values.len() + self.effect_parameters().len();
         if p.len() != expected {
             return Err(StructureError::ParameterCount { expected, got: p.len() });
         }
-        let mut space = self.checked.compiled.state_space(&p[..n_file])?;
+        let dampers: Vec<(usize, D)> = if linear_drag {
+            self.effect_offsets()
+                .into_iter()
+                .filter_map(|(effect, start)| match effect {
+                    Effect::Drag { coordinate, .. } if p[start + 1].re() == 1.0 => {
+                        Some((self.coordinate_index(coordinate)?, p[start]))
+                    }
+                    _ => None,
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let mut space = self.checked.compiled.state_space_damped(&p[..n_file], &dampers)?;
         for (effect, start) in self.effect_offsets() {
             if effect.kind() == EffectKind::UnmodeledMode {
                 crate::effects::append_mode(&mut space, &p[start..]);
