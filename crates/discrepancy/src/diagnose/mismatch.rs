@@ -24,6 +24,8 @@ pub fn mismatch_parameters(model: &Model, free: &[String]) -> Vec<String> {
 /// The mismatch parameters with the range a mismatch is looked for in: a fifth to five times a
 /// modal damping, half to twice the hub and motor inertias, ±30 % of the beam's stiffness
 /// (wider ranges only let a refit wander into stiff, slow and implausible models).
+///
+/// Each range is narrowed to the bounds the model file states for the parameter ([`within`]).
 fn mismatch_ids(model: &SlewingModel) -> Vec<(ParamId, (f64, f64))> {
     let around = |id: ParamId, low: f64, high: f64| {
         let v = model.get(id);
@@ -36,15 +38,30 @@ fn mismatch_ids(model: &SlewingModel) -> Vec<(ParamId, (f64, f64))> {
             around(ParamId::MotorInertia, 0.5, 2.0),
             around(ParamId::EiOverRho, 0.7, 1.3),
         ])
+        .filter_map(|(id, range)| Some((id, within(range, model.bounds(id))?)))
         .collect()
 }
 
 /// Mismatch parameters tried one at a time after the others, each kept only when the data
-/// determine it without unsettling those: the beam's mass per length (±30 %), which trades
-/// off against the hub and motor inertias in the rigid-body inertia.
+/// determine it without unsettling those: the beam's mass per length (±30 %, within the file's
+/// bounds), which trades off against the hub and motor inertias in the rigid-body inertia.
 fn secondary_mismatch_ids(model: &SlewingModel) -> Vec<(ParamId, (f64, f64))> {
-    let v = model.get(ParamId::MassPerLength);
-    if v > 0.0 { vec![(ParamId::MassPerLength, (0.7 * v, 1.3 * v))] } else { Vec::new() }
+    let id = ParamId::MassPerLength;
+    let v = model.get(id);
+    if v > 0.0 {
+        within((0.7 * v, 1.3 * v), model.bounds(id)).map(|r| (id, r)).into_iter().collect()
+    } else {
+        Vec::new()
+    }
+}
+
+/// `range` narrowed to the bounds the model file states for its parameter, if it states any: a
+/// user who has measured a beam's length, say, confines a mismatch of it to what the
+/// measurement allows, and a mismatch the file rules out is neither absorbed nor set against a
+/// named effect. `None` when nothing is left to move in.
+fn within(range: (f64, f64), stated: Option<(f64, f64)>) -> Option<(f64, f64)> {
+    let (lo, hi) = stated.map_or(range, |(a, b)| (range.0.max(a), range.1.min(b)));
+    (lo < hi).then_some((lo, hi))
 }
 
 /// The names of [`secondary_mismatch_ids`] the user did not free.
@@ -74,7 +91,8 @@ fn structure_fixed(model: &structure::StructureModel) -> Vec<(String, (f64, f64)
         .filter(|n| !free.contains(n) && !effects.contains(n))
         .filter_map(|n| {
             let v = model.value(&n).ok()?;
-            (v != 0.0 && v.is_finite()).then_some((n, around(v, 0.3)))
+            let range = within(around(v, 0.3), model.bounds(&n))?;
+            (v != 0.0 && v.is_finite()).then_some((n, range))
         })
         .collect()
 }
@@ -103,7 +121,8 @@ pub struct RivalTrial {
 /// The model's own parameters, not refitted, that a named effect is tried against as a
 /// mismatch, with the ranges they are refitted in: the mismatch parameters the
 /// reference left fixed, and the file's geometry (for the slewing rig the beam's length and the
-/// hub's radius, ±10 %; for a structure its fixed parameters, ±30 %). A sensor scale's exact
+/// hub's radius, ±10 %; for a structure its fixed parameters, ±30 %), each within the bounds the
+/// model file states for it, if any ([`within`]). A sensor scale's exact
 /// equivalents (`scale_equivalents_of`) are left out by the caller: they are reported as such.
 ///
 /// For the slewing rig also a linear spring at the hub (`hub_stiffness`, within ± the servo's
@@ -129,7 +148,7 @@ pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
             let geometry = [ParamId::Length, ParamId::HubRadius]
                 .into_iter()
                 .filter(|&id| m.get(id) > 0.0)
-                .map(|id| (id, around(m.get(id), 0.1)));
+                .filter_map(|id| Some((id, within(around(m.get(id), 0.1), m.bounds(id))?)));
             let mut all =
                 named(mismatch_ids(m).into_iter().chain(secondary_mismatch_ids(m)).chain(geometry).collect());
             let has_spring = m.effects().iter().any(|e| e.kind() == plant::EffectKind::CubicStiffness);
@@ -150,7 +169,8 @@ pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
             let mut bounds = structure_fixed(m);
             bounds.extend(m.free().into_iter().filter_map(|n| {
                 let v = m.value(&n).ok().filter(|v| *v != 0.0 && v.is_finite())?;
-                Some((n, around(v, 0.3)))
+                let range = within(around(v, 0.3), m.bounds(&n))?;
+                Some((n, range))
             }));
             let mut all: Vec<RivalTrial> =
                 bounds.into_iter().map(|(name, bounds)| RivalTrial { name, bounds, adds: None }).collect();
