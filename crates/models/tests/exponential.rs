@@ -24,8 +24,8 @@ const CASES: [(&str, &[&str]); 7] = [
     ),
     ("QuadraticDrag(hub: 0.05, exponent: Some(1.6))", &["cv", "drag_hub", "drag_exponent", "ei_over_rho"]),
     (
-        "CubicStiffness(coefficient: -0.2), TimeDelay(delay: 0.05)",
-        &["kp", "cubic_stiffness", "delay", "modal_damping_1"],
+        "CubicStiffness(coefficient: -0.2, linear: Some(0.02)), TimeDelay(delay: 0.05)",
+        &["kp", "cubic_stiffness", "hub_stiffness", "delay", "modal_damping_1"],
     ),
     (
         "UnmodeledMode(frequency_hz: 0.8, damping_ratio: 0.02, coupling: 0.1), AmplifierSaturation(current_limit: 1.5, sharp: false)",

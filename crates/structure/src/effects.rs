@@ -12,7 +12,11 @@
 //!   asymmetric part, k₅, and k₁′, a linear stiffness that changes over the record at time t
 //!   since the release, optional). With x = [q; q̇] the state equation is
 //!   ẋ = A x + B u + G f(t, x), G's column j = [0; −M⁻¹e_j], and an acceleration output reads
-//!   its share of the force, y = C x + D u + H f(t, x) (H from the rows of G).
+//!   its share of the force, y = C x + D u + H f(t, x) (H from the rows of G). A drag of
+//!   exponent 1 held there is linear, a damper c·q̇_j: where no other force acts and its
+//!   exponent is not freed, [`StructureModel::linear_state_space`](crate::StructureModel::linear_state_space)
+//!   adds c to D_jj and the exact exponential path applies
+//!   ([`StructureModel::is_linear_for`](crate::StructureModel::is_linear_for)).
 //! * **An unmodeled mode**: a damped oscillation at f_e with damping ratio ζ_e that the model's
 //!   modes do not contain — in free decay it adds to every output o its own amplitude,
 //!   y_o += a_o η(t) + b_o η̇(t)/ω_e, with η̈ + 2ζ_eω_e η̇ + ω_e² η = 0, η(0) = 1, η̇(0) = 0. It
