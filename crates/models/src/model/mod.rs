@@ -283,7 +283,11 @@ impl Model {
         }
     }
 
-    /// Whether the exact exponential path applies (no nonlinear effect).
+    /// Whether the model has no nonlinear effect, so that the exact exponential path applies
+    /// whatever is freed. [`Model::response_with`] takes that path also for a model that is
+    /// linear for the parameters it frees: a hub spring whose cubic part stays zero
+    /// (`plant::SlewingModel::is_linear_for`), a drag of exponent 1 held there
+    /// (`structure::StructureModel::is_linear_for`).
     pub fn is_linear(&self) -> bool {
         match self {
             Model::Slewing(m) => m.is_linear(),
