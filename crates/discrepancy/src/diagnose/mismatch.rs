@@ -38,7 +38,7 @@ fn mismatch_ids(model: &SlewingModel) -> Vec<(ParamId, (f64, f64))> {
             around(ParamId::MotorInertia, 0.5, 2.0),
             around(ParamId::EiOverRho, 0.7, 1.3),
         ])
-        .filter_map(|(id, range)| Some((id, within(range, model.bounds(id))?)))
+        .filter_map(|(id, range)| Some((id, within(model.get(id), range, model.bounds(id))?)))
         .collect()
 }
 
@@ -49,7 +49,7 @@ fn secondary_mismatch_ids(model: &SlewingModel) -> Vec<(ParamId, (f64, f64))> {
     let id = ParamId::MassPerLength;
     let v = model.get(id);
     if v > 0.0 {
-        within((0.7 * v, 1.3 * v), model.bounds(id)).map(|r| (id, r)).into_iter().collect()
+        within(v, (0.7 * v, 1.3 * v), model.bounds(id)).map(|r| (id, r)).into_iter().collect()
     } else {
         Vec::new()
     }
@@ -58,10 +58,12 @@ fn secondary_mismatch_ids(model: &SlewingModel) -> Vec<(ParamId, (f64, f64))> {
 /// `range` narrowed to the bounds the model file states for its parameter, if it states any: a
 /// user who has measured a beam's length, say, confines a mismatch of it to what the
 /// measurement allows, and a mismatch the file rules out is neither absorbed nor set against a
-/// named effect. `None` when nothing is left to move in.
-fn within(range: (f64, f64), stated: Option<(f64, f64)>) -> Option<(f64, f64)> {
+/// named effect. `None` when nothing is left to move in, or when the parameter's `value` lies
+/// outside what is left (a file whose bounds exclude its own value: the parameter is not
+/// refitted, as `memid fit` would refuse to start it there).
+fn within(value: f64, range: (f64, f64), stated: Option<(f64, f64)>) -> Option<(f64, f64)> {
     let (lo, hi) = stated.map_or(range, |(a, b)| (range.0.max(a), range.1.min(b)));
-    (lo < hi).then_some((lo, hi))
+    (lo < hi && lo <= value && value <= hi).then_some((lo, hi))
 }
 
 /// The names of [`secondary_mismatch_ids`] the user did not free.
@@ -90,9 +92,9 @@ fn structure_fixed(model: &structure::StructureModel) -> Vec<(String, (f64, f64)
         .into_iter()
         .filter(|n| !free.contains(n) && !effects.contains(n))
         .filter_map(|n| {
-            let v = model.value(&n).ok()?;
-            let range = within(around(v, 0.3), model.bounds(&n))?;
-            (v != 0.0 && v.is_finite()).then_some((n, range))
+            let v = model.value(&n).ok().filter(|v| *v != 0.0 && v.is_finite())?;
+            let range = within(v, around(v, 0.3), model.bounds(&n))?;
+            Some((n, range))
         })
         .collect()
 }
@@ -148,7 +150,7 @@ pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
             let geometry = [ParamId::Length, ParamId::HubRadius]
                 .into_iter()
                 .filter(|&id| m.get(id) > 0.0)
-                .filter_map(|id| Some((id, within(around(m.get(id), 0.1), m.bounds(id))?)));
+                .filter_map(|id| Some((id, within(m.get(id), around(m.get(id), 0.1), m.bounds(id))?)));
             let mut all =
                 named(mismatch_ids(m).into_iter().chain(secondary_mismatch_ids(m)).chain(geometry).collect());
             let has_spring = m.effects().iter().any(|e| e.kind() == plant::EffectKind::CubicStiffness);
@@ -169,7 +171,7 @@ pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
             let mut bounds = structure_fixed(m);
             bounds.extend(m.free().into_iter().filter_map(|n| {
                 let v = m.value(&n).ok().filter(|v| *v != 0.0 && v.is_finite())?;
-                let range = within(around(v, 0.3), m.bounds(&n))?;
+                let range = within(v, around(v, 0.3), m.bounds(&n))?;
                 Some((n, range))
             }));
             let mut all: Vec<RivalTrial> =
@@ -227,7 +229,19 @@ pub fn with_mismatch_bounds(mut model: Model) -> Model {
 
 #[cfg(test)]
 mod tests {
-    use super::{AddedTerm, Model, rival_parameters};
+    use super::{AddedTerm, Model, rival_parameters, within};
+
+    /// A file's bounds narrow a range; bounds that leave nothing, or exclude the parameter's
+    /// own value, leave the parameter out.
+    #[test]
+    fn a_files_bounds_narrow_the_range_or_leave_the_parameter_out() {
+        assert_eq!(within(1.0, (0.5, 2.0), None), Some((0.5, 2.0)));
+        assert_eq!(within(1.0, (0.5, 2.0), Some((0.9, 1.1))), Some((0.9, 1.1)));
+        assert_eq!(within(1.0, (0.5, 2.0), Some((0.0, 1.5))), Some((0.5, 1.5)));
+        assert_eq!(within(1.0, (0.5, 2.0), Some((3.0, 4.0))), None, "disjoint");
+        assert_eq!(within(1.0, (0.5, 2.0), Some((1.5, 3.0))), None, "the value outside");
+        assert_eq!(within(f64::NAN, (0.5, 2.0), None), None);
+    }
 
     /// A structure's rivals include a linear damper at each coordinate without a drag, within
     /// ± twice the file's diagonal damping there: D = αM + βK with α 0.375, β 1.25·10⁻³, masses
