@@ -155,11 +155,14 @@ impl Diagnosis {
                     for r in self.candidates.iter().filter(|r| r.verdict == Verdict::Outscored) {
                         if let Some(y) = r.evidence.held_out.filter(|y| (x - y).abs() < self.threshold) {
                             out.push(format!(
-                                "{} predicts within {:.1} nats of it (ΔBIC {:.1}): these data barely tell the two \
-                                 apart, and the smaller ΔBIC decided",
+                                "{} predicts within {:.1} nats of it (ΔBIC {:.1}, strength {:.1} σ against {:.1}): \
+                                 these data barely tell the two apart, and the strength resolved by more standard \
+                                 errors decided",
                                 r.label,
                                 (x - y).abs(),
-                                r.evidence.delta_bic
+                                r.evidence.delta_bic,
+                                r.evidence.strength_z,
+                                c.evidence.strength_z
                             ));
                         }
                     }
