@@ -96,8 +96,10 @@ def form_accepts(case):
     forms = case.get("forms") or []
     if len(forms) != 2:
         return None
+    here = os.path.dirname(os.path.abspath(__file__))
+    if here not in sys.path:
+        sys.path.insert(0, here)
     try:
-        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
         from generate import FORM_EFFECT
     except ImportError:
         return None

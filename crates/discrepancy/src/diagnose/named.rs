@@ -138,6 +138,20 @@ pub(super) fn polish(candidate: &mut Candidate, trial: &Trial, free: &[String], 
     }
 }
 
+/// The candidates (other than a lattice) that passed every test — `Outscored`, or the one
+/// `Named` among them — whose held-out gains lie within `threshold` of the best of theirs: the
+/// data do not tell them apart, and [`choose`] names one of them by its strength.
+pub(super) fn not_told_apart(candidates: &[Candidate], threshold: f64) -> Vec<usize> {
+    let passed = |c: &Candidate| {
+        matches!(c.verdict, Verdict::Outscored | Verdict::Named) && c.kind != EffectKind::SensorQuantization
+    };
+    let held_out = |c: &Candidate| c.evidence.held_out.unwrap_or(f64::NEG_INFINITY);
+    let best = candidates.iter().filter(|c| passed(c)).map(held_out).fold(f64::NEG_INFINITY, f64::max);
+    (0..candidates.len())
+        .filter(|&i| passed(&candidates[i]) && best - held_out(&candidates[i]) < threshold)
+        .collect()
+}
+
 /// The named candidate: a proven lattice that matters first (a measurement fact), else the
 /// candidate with the most held-out evidence beyond a mismatch among those that pass — among
 /// those whose held-out gains are closer than the threshold (not told apart), the one whose
@@ -153,22 +167,15 @@ pub(super) fn choose(candidates: &[Candidate], threshold: f64) -> Option<usize> 
         })
         .map(|(i, _)| i);
     lattice.or_else(|| {
-        let passing: Vec<(usize, &Candidate)> = candidates
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| c.verdict == Verdict::Outscored && c.kind != EffectKind::SensorQuantization)
-            .collect();
-        let held_out = |c: &Candidate| c.evidence.held_out.unwrap_or(f64::NEG_INFINITY);
-        let best = passing.iter().map(|(_, c)| held_out(c)).fold(f64::NEG_INFINITY, f64::max);
         // Held-out gains closer than the threshold are not told apart; among those, the one
         // whose strength the data resolve most surely decides (the largest z; ties by ΔBIC).
         // The likelihood's ΔBIC trusts the measurement model's AR(1) correlation, fixed from
         // the best-fitting residual; the strength's standard error is a sandwich over each
         // refit's own residual variance and correlation (White 1982), so a candidate that
         // gains by bending into structure it leaves has a wide one.
-        passing
+        not_told_apart(candidates, threshold)
             .into_iter()
-            .filter(|(_, c)| best - held_out(c) < threshold)
+            .map(|i| (i, &candidates[i]))
             .max_by(|(_, a), (_, b)| {
                 a.evidence
                     .strength_z
@@ -220,5 +227,15 @@ mod tests {
         let mut failed = offset;
         failed.verdict = Verdict::Superficial;
         assert_eq!(choose(&[drift, failed], 10.0), Some(0));
+        // The ties are counted from the best gain, not from the one named: 83 lies within the
+        // threshold of the named 91 but 17 nats behind the best, so it was not among them.
+        let (best, named, behind) = (
+            passing(EffectKind::CubicStiffness, 100.0, -150.0, 1.0),
+            passing(EffectKind::QuadraticDrag, 91.0, -140.0, 20.0),
+            passing(EffectKind::CoulombFriction, 83.0, -130.0, 30.0),
+        );
+        let all = [best, named, behind];
+        assert_eq!(choose(&all, 10.0), Some(1));
+        assert_eq!(not_told_apart(&all, 10.0), vec![0, 1]);
     }
 }

@@ -150,10 +150,15 @@ impl Diagnosis {
                         r.name
                     ));
                 }
-                // A rival within the threshold is not told apart by these data.
+                // The rivals the named one was chosen among: not told apart by these data.
                 if let Some(x) = c.evidence.held_out {
-                    for r in self.candidates.iter().filter(|r| r.verdict == Verdict::Outscored) {
-                        if let Some(y) = r.evidence.held_out.filter(|y| (x - y).abs() < self.threshold) {
+                    let tied = super::named::not_told_apart(&self.candidates, self.threshold);
+                    for r in tied
+                        .into_iter()
+                        .map(|i| &self.candidates[i])
+                        .filter(|r| r.verdict == Verdict::Outscored)
+                    {
+                        if let Some(y) = r.evidence.held_out {
                             out.push(format!(
                                 "{} predicts within {:.1} nats of it (ΔBIC {:.1}, strength {:.1} σ against {:.1}): \
                                  these data barely tell the two apart, and the strength resolved by more standard \
