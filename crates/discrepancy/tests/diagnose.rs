@@ -102,6 +102,46 @@ fn backlash_from_an_independent_simulator_is_named_with_its_band() {
     assert!(d.augmented_error() < 0.5 * d.baseline_error());
 }
 
+/// Friction that sticks, in a record from the study's independent truth plant
+/// (`fixtures/independent/slewing_hub_torques.py`: F_c = 3 mN·m sliding, F_s = 5.4 mN·m at rest,
+/// falling as e^{−(θ̇/v_st)²} over v_st = 0.012 rad/s, smoothed by tanh(θ̇/(3·10⁻⁴ rad/s))),
+/// decimated to 12.8 Hz: named a dry friction, and the static peak refitted beside it is
+/// demanded and carried by the named effect, within the bias of the other smoothing
+/// (measured: F_c −1 %, ΔF −13 %, v_st +15 %; docs/diagnose.md, "The static peak of a named
+/// friction").
+#[test]
+fn a_sticking_friction_is_named_with_its_static_peak() {
+    let d = decimated_fixture_from("slewing_stribeck", |t| t.replace("hub_angle: 0.5,", "hub_angle: 0.6,"));
+    let named = d.named().expect("a 3 mN·m friction is named");
+    assert_eq!(named.label, "coulomb_friction", "{:?}", d.answer());
+    let peak = d.static_peak.as_ref().expect("the peak is tried beside a named friction");
+    assert!(peak.demanded && peak.gain >= d.threshold, "{peak:?}");
+    let value = |name: &str| named.parameters.iter().find(|p| p.name == name).map(|p| p.value);
+    let (fc, delta, v_st) =
+        (value("coulomb_torque").unwrap(), value("static_peak"), value("stribeck_velocity"));
+    let (delta, v_st) = (delta.expect("the named friction carries its peak"), v_st.unwrap());
+    assert!((fc / 0.003 - 1.0).abs() < 0.05, "F_c {fc}");
+    assert!((delta / 0.0024 - 1.0).abs() < 0.25, "ΔF {delta}");
+    assert!((v_st / 0.012 - 1.0).abs() < 0.3, "v_st {v_st}");
+    assert!(d.answer().iter().any(|s| s.contains("static peak")), "{:?}", d.answer());
+}
+
+/// Dry friction without a peak, smoothed otherwise than the catalog's tanh (F_c (2/π)
+/// arctan(θ̇/10⁻³ rad/s), F_c = 4 mN·m; `fixtures/independent/slewing_hub_torques.py`), decimated
+/// to 12.8 Hz: named a dry friction, and the static peak tried beside it is not demanded — the
+/// named friction keeps Coulomb's constant level alone.
+#[test]
+fn a_friction_without_a_peak_keeps_a_constant_level() {
+    let d =
+        decimated_fixture_from("slewing_coulomb_atan", |t| t.replace("hub_angle: 0.5,", "hub_angle: 0.55,"));
+    let named = d.named().expect("a 4 mN·m friction is named");
+    assert_eq!(named.label, "coulomb_friction", "{:?}", d.answer());
+    let peak = d.static_peak.as_ref().expect("the peak is tried beside a named friction");
+    assert!(!peak.demanded && peak.gain < d.threshold, "{peak:?}");
+    let names: Vec<&str> = named.parameters.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(names, ["coulomb_torque"]);
+}
+
 /// A mode damped about 32 % and coupled to the hub through a dashpot, in a record from the
 /// study's independent truth plant (`fixtures/independent/slewing_damped_mode.py`: 0.55 Hz, the
 /// dashpot's coupling 0.45 N·m·s/√kg), decimated to 12.8 Hz. ERA sees no peak there and seeds

@@ -15,12 +15,16 @@ fn with_effects(effects: &str) -> SlewingModel {
 
 /// Every nonlinear effect of the catalog, at strengths that visibly change the response, sharp
 /// friction included.
-const CASES: [(&str, &[&str]); 7] = [
+const CASES: [(&str, &[&str]); 8] = [
     ("AmplifierSaturation(current_limit: 1.2, sharp: false)", &["cv", "kp", "current_limit"]),
     ("VoltageSaturation(voltage_limit: 2.5, sharp: false)", &["cv", "kp", "voltage_limit"]),
     (
         "CoulombFriction(torque: 0.004, smoothing_velocity: 0.0002)",
         &["cv", "kp", "coulomb_torque", "hub_inertia"],
+    ),
+    (
+        "CoulombFriction(torque: 0.004, smoothing_velocity: 0.0002, static_peak: Some(0.003), stribeck_velocity: Some(0.02))",
+        &["cv", "coulomb_torque", "static_peak", "stribeck_velocity"],
     ),
     ("QuadraticDrag(hub: 0.05, exponent: Some(1.6))", &["cv", "drag_hub", "drag_exponent", "ei_over_rho"]),
     (

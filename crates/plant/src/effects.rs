@@ -9,7 +9,7 @@
 //! | --- | --- | --- |
 //! | `AmplifierSaturation` | `current_limit` \[A\] | armature current i = sat((e_a − K_bθ̇)/R_a) |
 //! | `VoltageSaturation` | `voltage_limit` \[V\] | amplifier output e_a = sat(G K_p(θ_ref − θ)); the back-EMF still acts |
-//! | `CoulombFriction` | `coulomb_torque` \[N·m\] | τ = −F_c tanh(θ̇/v_s), v_s fixed smoothing velocity |
+//! | `CoulombFriction` | `coulomb_torque` \[N·m\], optional `static_peak` ΔF \[N·m\] and `stribeck_velocity` v_st \[rad/s\] | τ = −(F_c + ΔF e^{−(θ̇/v_st)²}) tanh(θ̇/v_s), v_s fixed smoothing velocity: dry friction, with a static peak that falls to the Coulomb level over v_st (Stribeck; Armstrong-Hélouvry, Dupont & Canudas de Wit 1994) when given |
 //! | `QuadraticDrag` | `drag_hub` \[N·m·(s/rad)ᵖ\], optional `drag_exponent` p | τ = −c_d \|θ̇\|ᵖ sign θ̇ (p = 2 unless given: air drag, the paper's ref. 10) |
 //! | `CubicStiffness` | `cubic_stiffness` \[N·m/rad³\], optional `hub_stiffness` k₁ \[N·m/rad\] | τ = −k₁θ − k₃θ³ on the hub (hardening for k₃ > 0, softening for k₃ < 0; k₁ = 0 unless given) |
 //! | `TimeDelay` | `delay` \[s\] | feedback sees θ(t − τ), Padé(1,1): θ_d = −θ + w, ẇ = (2/τ)(2θ − w) |
@@ -140,6 +140,15 @@ pub enum Effect<D = f64> {
         /// Smoothing velocity v_s \[rad/s\] (fixed; the friction is within 1 − tanh(3) ≈ 0.5 % of
         /// its full value above 3·v_s).
         smoothing_velocity: f64,
+        /// ΔF = F_s − F_c \[N·m\] (`static_peak`): how far the friction at rest (the static,
+        /// breakaway level F_s) exceeds the sliding one. Given together with
+        /// `stribeck_velocity`; absent, the friction is Coulomb's alone.
+        #[serde(default)]
+        static_peak: Option<D>,
+        /// v_st \[rad/s\] (`stribeck_velocity`): the rate over which the peak falls, as
+        /// e^{−(θ̇/v_st)²}.
+        #[serde(default)]
+        stribeck_velocity: Option<D>,
     },
     /// Air drag on the hub and beam, lumped as a torque ∝ |θ̇|ᵖ sign θ̇.
     QuadraticDrag {
@@ -294,8 +303,13 @@ impl<D> Effect<D> {
             Effect::VoltageSaturation { voltage_limit, sharp } => {
                 Effect::VoltageSaturation { voltage_limit: f(voltage_limit), sharp: *sharp }
             }
-            Effect::CoulombFriction { torque, smoothing_velocity } => {
-                Effect::CoulombFriction { torque: f(torque), smoothing_velocity: *smoothing_velocity }
+            Effect::CoulombFriction { torque, smoothing_velocity, static_peak, stribeck_velocity } => {
+                Effect::CoulombFriction {
+                    torque: f(torque),
+                    smoothing_velocity: *smoothing_velocity,
+                    static_peak: static_peak.as_ref().map(&f),
+                    stribeck_velocity: stribeck_velocity.as_ref().map(&f),
+                }
             }
             Effect::QuadraticDrag { hub, exponent } => {
                 Effect::QuadraticDrag { hub: f(hub), exponent: exponent.as_ref().map(&f) }

@@ -203,6 +203,16 @@ impl ModelFile {
                     "must be finite and ≥ 0".into(),
                 ));
             }
+            if let Effect::CoulombFriction { static_peak, stribeck_velocity, .. } = e
+                && static_peak.is_some() != stribeck_velocity.is_some()
+            {
+                let given = if static_peak.is_some() { "static_peak" } else { "stribeck_velocity" };
+                return Err(invalid(
+                    &format!("effects.{given}"),
+                    static_peak.or(*stribeck_velocity).unwrap_or(f64::NAN),
+                    "give `static_peak` and `stribeck_velocity` together (or neither)".into(),
+                ));
+            }
             if let Effect::CoulombFriction { smoothing_velocity, .. } = e
                 && !(smoothing_velocity.is_finite() && *smoothing_velocity > 0.0)
             {

@@ -6,7 +6,9 @@
 //!   −k_s θ_c − (K_bK_t/R_a) θ̇, so Δτ_s = K_t i − (−k_s θ_c − K_bK_t/R_a θ̇) enters through the
 //!   servo direction [1, Γ_1, …] (θ_c is θ, or the delayed θ_d with a time delay).
 //! * Dry friction, drag and a cubic stiffness are hub torques
-//!   τ_h = −F_c tanh(θ̇/v_s) − c_d|θ̇|ᵖ sign θ̇ − k₃θ³ (a hub spring's linear part k₁θ is in A,
+//!   τ_h = −(F_c + ΔF e^{−(θ̇/v_st)²}) tanh(θ̇/v_s) − c_d|θ̇|ᵖ sign θ̇ − k₃θ³ (ΔF = 0 unless a
+//!   static peak is given, the Stribeck form of Armstrong-Hélouvry, Dupont & Canudas de Wit,
+//!   Automatica 30(7), 1994; a hub spring's linear part k₁θ is in A,
 //!   [`crate::assemble::second_order`]).
 //! * Backlash: the linear part holds the gear as a spring k_g(θ_m − θ) between motor and hub;
 //!   the dead band takes back τ_c = k_g sat_{b/2}(θ_m − θ) (the smooth limiter), from the hub
@@ -34,7 +36,7 @@ pub struct Dynamics<D: Scalar> {
     pub layout: Layout,
     saturation: Option<(D, bool)>,
     voltage: Option<(D, bool)>,
-    coulomb: Option<(D, f64)>,
+    coulomb: Option<Friction<D>>,
     drag: Option<(D, Option<D>)>,
     /// k₃ of a hub spring (its linear part is in A).
     cubic: Option<D>,
@@ -46,6 +48,28 @@ pub struct Dynamics<D: Scalar> {
     torque_constant: D,
     servo_stiffness: D,
     emf_damping: D,
+}
+
+/// Dry friction at the hub: the Coulomb level, its smoothing velocity, and the static peak with
+/// its Stribeck velocity when given.
+#[derive(Clone, Copy, Debug)]
+struct Friction<D> {
+    torque: D,
+    smoothing_velocity: f64,
+    stribeck: Option<(D, D)>,
+}
+
+impl<D: Scalar> Friction<D> {
+    /// The friction's level at `rate`: F_c + ΔF e^{−(θ̇/v_st)²}.
+    fn level(&self, rate: D) -> D {
+        match self.stribeck {
+            Some((peak, velocity)) => {
+                let r = rate / velocity;
+                self.torque + peak * DualNum::exp(&(-(r * r)))
+            }
+            None => self.torque,
+        }
+    }
 }
 
 /// Builds the dynamics of a model with its effects.
@@ -67,8 +91,10 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
                 saturation = Some((*current_limit, *sharp))
             }
             Effect::VoltageSaturation { voltage_limit, sharp } => voltage = Some((*voltage_limit, *sharp)),
-            Effect::CoulombFriction { torque, smoothing_velocity } => {
-                coulomb = Some((*torque, *smoothing_velocity))
+            Effect::CoulombFriction { torque, smoothing_velocity, static_peak, stribeck_velocity } => {
+                let stribeck = static_peak.zip(*stribeck_velocity);
+                coulomb =
+                    Some(Friction { torque: *torque, smoothing_velocity: *smoothing_velocity, stribeck })
             }
             Effect::QuadraticDrag { hub, exponent } => drag = Some((*hub, *exponent)),
             Effect::CubicStiffness { coefficient, .. } => cubic = Some(*coefficient),
@@ -151,7 +177,10 @@ impl<D: Scalar> Dynamics<D> {
         ];
         out.extend(self.saturation.map(|s| s.0));
         out.extend(self.voltage.map(|s| s.0));
-        out.extend(self.coulomb.map(|s| s.0));
+        if let Some(f) = self.coulomb {
+            out.push(f.torque);
+            out.extend(f.stribeck.into_iter().flat_map(|(p, v)| [p, v]));
+        }
         if let Some((c, p)) = self.drag {
             out.push(c);
             out.extend(p);
@@ -195,8 +224,8 @@ impl<D: Scalar> Dynamics<D> {
             servo += taken;
             hub -= taken;
         }
-        if let Some((torque, v_s)) = self.coulomb {
-            hub -= torque * tanh(rate / D::from(v_s));
+        if let Some(f) = self.coulomb {
+            hub -= f.level(rate) * tanh(rate / D::from(f.smoothing_velocity));
         }
         if let Some((c_d, exponent)) = self.drag {
             hub -= match exponent {

@@ -107,6 +107,10 @@ pub enum ParamId {
     Backlash,
     /// `gear_frequency` of `Backlash`.
     GearFrequency,
+    /// `static_peak` of `CoulombFriction` (when given): F_s − F_c.
+    StaticPeak,
+    /// `stribeck_velocity` of `CoulombFriction` (when given).
+    StribeckVelocity,
 }
 
 /// The sign a parameter may take.
@@ -136,7 +140,7 @@ const CORE: [(&str, ParamId, &str); 13] = [
     ("amplifier_gain", ParamId::AmplifierGain, "motor.amplifier_gain"),
 ];
 
-const EFFECT_PARAMS: [(&str, ParamId, &str); 15] = [
+const EFFECT_PARAMS: [(&str, ParamId, &str); 17] = [
     ("backlash", ParamId::Backlash, "dead_band"),
     ("gear_frequency", ParamId::GearFrequency, "gear_frequency_hz"),
     ("current_limit", ParamId::CurrentLimit, "current_limit"),
@@ -147,6 +151,8 @@ const EFFECT_PARAMS: [(&str, ParamId, &str); 15] = [
     ("extra_mode_stiffness_coupling", ParamId::ExtraModeStiffnessCoupling, "stiffness_coupling"),
     ("extra_mode_damping_coupling", ParamId::ExtraModeDampingCoupling, "damping_coupling"),
     ("coulomb_torque", ParamId::CoulombTorque, "torque"),
+    ("static_peak", ParamId::StaticPeak, "static_peak"),
+    ("stribeck_velocity", ParamId::StribeckVelocity, "stribeck_velocity"),
     ("drag_hub", ParamId::DragHub, "hub"),
     ("delay", ParamId::Delay, "delay"),
     ("extra_mode_frequency", ParamId::ExtraModeFrequency, "frequency_hz"),
@@ -205,7 +211,8 @@ impl ParamId {
             | ParamId::DragExponent
             | ParamId::ExtraModeFrequency
             | ParamId::Backlash
-            | ParamId::GearFrequency => SignRule::Positive,
+            | ParamId::GearFrequency
+            | ParamId::StribeckVelocity => SignRule::Positive,
             ParamId::Offset(_)
             | ParamId::Scale(_)
             | ParamId::Drift(_)
@@ -253,7 +260,16 @@ impl ParamId {
         match effect {
             Effect::AmplifierSaturation { .. } => vec![ParamId::CurrentLimit],
             Effect::VoltageSaturation { .. } => vec![ParamId::VoltageLimit],
-            Effect::CoulombFriction { .. } => vec![ParamId::CoulombTorque],
+            Effect::CoulombFriction { static_peak, stribeck_velocity, .. } => {
+                let mut ids = vec![ParamId::CoulombTorque];
+                if static_peak.is_some() {
+                    ids.push(ParamId::StaticPeak);
+                }
+                if stribeck_velocity.is_some() {
+                    ids.push(ParamId::StribeckVelocity);
+                }
+                ids
+            }
             Effect::QuadraticDrag { exponent, .. } => {
                 let mut ids = vec![ParamId::DragHub];
                 if exponent.is_some() {
@@ -330,6 +346,10 @@ macro_rules! effect_field {
             (Effect::AmplifierSaturation { current_limit, .. }, ParamId::CurrentLimit) => Some(current_limit),
             (Effect::VoltageSaturation { voltage_limit, .. }, ParamId::VoltageLimit) => Some(voltage_limit),
             (Effect::CoulombFriction { torque, .. }, ParamId::CoulombTorque) => Some(torque),
+            (Effect::CoulombFriction { static_peak: Some(p), .. }, ParamId::StaticPeak) => Some(p),
+            (Effect::CoulombFriction { stribeck_velocity: Some(v), .. }, ParamId::StribeckVelocity) => {
+                Some(v)
+            }
             (Effect::QuadraticDrag { hub, .. }, ParamId::DragHub) => Some(hub),
             (Effect::QuadraticDrag { exponent: Some(p), .. }, ParamId::DragExponent) => Some(p),
             (Effect::CubicStiffness { coefficient, .. }, ParamId::CubicStiffness) => Some(coefficient),

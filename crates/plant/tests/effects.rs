@@ -116,6 +116,51 @@ fn nonlinear_effects_reduce_to_the_linear_model_in_their_limits() {
     }
 }
 
+/// Dry friction with a static peak (Stribeck): at hub rate v the friction torque is
+/// (F_c + ΔF e^{−(v/v_st)²}) tanh(v/v_s), so against the Coulomb friction alone every row of
+/// the right-hand side's change from the linear model is scaled by (F_c + ΔF e^{−(v/v_st)²})/F_c
+/// — e.g. (F_c + ΔF/e)/F_c at v = v_st — and by 1 far above v_st.
+#[test]
+fn a_static_peak_raises_the_friction_near_rest_and_fades_above_the_stribeck_velocity() {
+    let (fc, peak, v_st) = (0.004, 0.003, 0.02);
+    let coulomb = with_effects(&format!("CoulombFriction(torque: {fc}, smoothing_velocity: 0.0002)"));
+    let stribeck = with_effects(&format!(
+        "CoulombFriction(torque: {fc}, smoothing_velocity: 0.0002, static_peak: Some({peak}), stribeck_velocity: Some({v_st}))"
+    ));
+    assert_eq!(stribeck.parameter("static_peak").unwrap(), ParamId::StaticPeak);
+    assert!(coulomb.parameter("stribeck_velocity").is_err(), "not a parameter when absent");
+    let paper = SlewingModel::paper();
+    let n = paper.n_states();
+    let hub_rate = paper.layout().n_dof;
+    for (v, expected) in [
+        (v_st, (fc + peak / std::f64::consts::E) / fc),
+        (0.5 * v_st, (fc + peak * (-0.25f64).exp()) / fc),
+        (20.0 * v_st, 1.0),
+    ] {
+        let mut x: Vec<f64> = (0..n).map(|i| 0.01 * (i as f64 + 1.0).cos()).collect();
+        x[hub_rate] = v;
+        let rhs = |m: &SlewingModel| {
+            let mut f = vec![0.0; n];
+            m.dynamics_with(|v| *v).unwrap().rhs(&x, &mut f);
+            f
+        };
+        let (fl, fcoul, fs) = (rhs(&paper), rhs(&coulomb), rhs(&stribeck));
+        for i in 0..n {
+            let (dc, ds) = (fcoul[i] - fl[i], fs[i] - fl[i]);
+            assert!(
+                (ds - expected * dc).abs() <= 1e-12 * (1.0 + ds.abs()),
+                "v = {v}, row {i}: {ds} vs {expected}·{dc}"
+            );
+        }
+    }
+    let half = plant::PAPER_MODEL_RON.replace(
+        "    bounds: {",
+        "    effects: [CoulombFriction(torque: 0.004, smoothing_velocity: 0.0002, static_peak: Some(0.003))],\n    bounds: {",
+    );
+    let msg = SlewingModel::from_ron(&half, "half.ron").unwrap_err().to_string();
+    assert!(msg.contains("static_peak") && msg.contains("together"), "{msg}");
+}
+
 #[test]
 fn smooth_limiter_is_linear_below_and_clamped_above() {
     for i in [0.1f64, 0.3, 0.59] {

@@ -121,6 +121,25 @@ pub struct SpringForm {
     pub changing: SpringTerm,
 }
 
+/// The static peak of a named dry friction, refitted beside it (step 8 of
+/// [module `diagnose`](mod@crate::diagnose); module `friction`): τ = −(F_c + ΔF e^{−(θ̇/v_st)²})
+/// tanh(θ̇/v_s).
+#[derive(Clone, Debug, Serialize)]
+pub struct StaticPeak {
+    /// ΔF = F_s − F_c (`static_peak`): how far the breakaway level exceeds the sliding one.
+    pub peak: EffectParameter,
+    /// v_st (`stribeck_velocity`): the rate over which the peak falls.
+    pub stribeck_velocity: EffectParameter,
+    /// F_c, refitted beside the peak.
+    pub coulomb_torque: EffectParameter,
+    /// In-sample gain of the peak over Coulomb's constant level, both refitted to convergence
+    /// (nats).
+    pub gain: f64,
+    /// Whether the data demand it: it gains at least the held-out threshold and ΔF, v_st and
+    /// F_c are determined inside their ranges. Demanded, the named friction carries it.
+    pub demanded: bool,
+}
+
 /// The evidence for one candidate, every figure a difference of the same log-likelihood
 /// ([`super::evidence`]) to the reference's (the baseline with the model's own parameters free).
 #[derive(Clone, Debug, Default, Serialize)]
@@ -254,6 +273,9 @@ pub struct Diagnosis {
     /// or [`Verdict::TimeVarying`]: its form tested beside it ([`SpringForm`]). `None` otherwise,
     /// also when a rival unseated the spring first (the test is not run then).
     pub spring: Option<SpringForm>,
+    /// For a named `coulomb_friction` on the slewing rig: its static peak refitted beside it
+    /// ([`StaticPeak`]); `None` otherwise, or when a refit failed.
+    pub static_peak: Option<StaticPeak>,
     /// Readings set aside as glitches before anything was fitted (module [`crate::glitch`]).
     pub glitches: Vec<crate::glitch::Glitch>,
 }

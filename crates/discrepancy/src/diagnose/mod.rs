@@ -38,6 +38,13 @@
 //!    in for; the quintic takes up what a symmetric spring of another form leaves, so that
 //!    only asymmetry, or change with time, is left for the term.
 //!
+//! A named dry friction on the slewing rig is then refitted with a static peak beside it,
+//! τ = −(F_c + ΔF e^{−(θ̇/v_st)²}) tanh(θ̇/v_s) (Stribeck; Armstrong-Hélouvry, Dupont & Canudas de
+//! Wit, Automatica 30(7), 1994): where ΔF and v_st are determined and the peak gains at least
+//! the threshold in sample, the named friction carries them ([`StaticPeak`], module
+//! `friction`; F_c beside them must be determined too); otherwise it stays Coulomb's constant
+//! level. The name does not change.
+//!
 //! Sensor quantization is a measurement model, not a force: it is named when the raw readings
 //! of a sensor lie on a lattice while the signal moves, with a step comparable to the noise or
 //! larger ([`crate::quantization`]).
@@ -45,6 +52,7 @@
 mod answer;
 pub mod catalog;
 pub mod evidence;
+mod friction;
 mod mismatch;
 mod named;
 mod quantized;
@@ -57,7 +65,7 @@ mod spring;
 
 pub use answer::{
     AddedTerm, Candidate, Diagnosis, EffectParameter, Evidence, RIVAL_MARGIN, Rival, SpringForm, SpringTerm,
-    Verdict,
+    StaticPeak, Verdict,
 };
 pub use report::DiagnosisReport;
 
@@ -260,6 +268,7 @@ pub fn diagnose_observed(
     let mut scale_equivalents = Vec::new();
     let mut rivals = Vec::new();
     let mut spring = None;
+    let mut static_peak = None;
     let chosen = (|| {
         let i = choose(&candidates, options.threshold)?;
         candidates[i].verdict = Verdict::Named;
@@ -303,6 +312,15 @@ pub fn diagnose_observed(
                 return None;
             }
         }
+        // A named dry friction: does it stick (a static peak above its sliding level)?
+        static_peak = friction::static_peak(
+            &mut candidates[i],
+            trial,
+            &reference_free,
+            &data,
+            options.threshold,
+            |o| evidence::gain(&likelihoods(o), &reference_likelihoods),
+        );
         Some(i)
     })();
     // The equivalents belong to a named scale only; the rivals to a named effect or to the one
@@ -335,6 +353,7 @@ pub fn diagnose_observed(
         scale_equivalents,
         rivals,
         spring,
+        static_peak,
         glitches,
     })
 }

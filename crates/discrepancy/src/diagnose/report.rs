@@ -1,6 +1,6 @@
 //! The diagnosis in words and as the JSON document of `memid diagnose --json` (docs/json.md).
 
-use super::{Diagnosis, EffectParameter, NoiseModel, ResidualStructure, Verdict};
+use super::{Diagnosis, EffectParameter, NoiseModel, ResidualStructure, StaticPeak, Verdict};
 use crate::localise::Localisation;
 use crate::quantization;
 use serde::Serialize;
@@ -47,6 +47,10 @@ pub struct DiagnosisReport<'a> {
     /// For the same spring: a linear stiffness that changes with time, k₁′·t·q, refitted beside
     /// it, and whether the data demand it; absent otherwise.
     pub changing_spring: Option<&'a super::SpringTerm>,
+    /// For a named `coulomb_friction` on the slewing rig: its static (Stribeck) peak refitted
+    /// beside it, and whether the data demand it — demanded, the named friction carries it;
+    /// absent otherwise.
+    pub static_friction_peak: Option<&'a super::StaticPeak>,
     /// Readings set aside as glitches before anything was fitted, each replaced by the line
     /// through the readings that bound its run (empty if none).
     pub glitches: &'a [crate::glitch::Glitch],
@@ -150,6 +154,7 @@ impl Diagnosis {
                         r.name
                     ));
                 }
+                out.extend(self.static_peak.as_ref().map(StaticPeak::sentence));
                 // The rivals the named one was chosen among: not told apart by these data.
                 if let Some(x) = c.evidence.held_out {
                     let tied = super::named::not_told_apart(&self.candidates, self.threshold);
@@ -304,7 +309,38 @@ impl Diagnosis {
             rival_mismatches: &self.rivals,
             asymmetric_spring: self.spring.as_ref().map(|f| &f.asymmetric),
             changing_spring: self.spring.as_ref().map(|f| &f.changing),
+            static_friction_peak: self.static_peak.as_ref(),
             glitches: &self.glitches,
+        }
+    }
+}
+
+impl StaticPeak {
+    /// The friction's form in words: the peak the data demand, or how far it got.
+    fn sentence(&self) -> String {
+        let with_se = |p: &EffectParameter| match p.std_error {
+            Some(se) => format!("{:.3e} ± {se:.1e}", p.value),
+            None => format!("{:.3e} (not determined)", p.value),
+        };
+        if self.demanded {
+            format!(
+                "the friction has a static peak: it breaks away at F_c + ΔF = {:.3e} N·m and slides at F_c = {} N·m, \
+                 the peak ΔF = {} N·m falling over the Stribeck velocity {} rad/s (gains {:.1} nats over a constant \
+                 level); the named friction carries it",
+                self.coulomb_torque.value + self.peak.value,
+                with_se(&self.coulomb_torque),
+                with_se(&self.peak),
+                with_se(&self.stribeck_velocity),
+                self.gain
+            )
+        } else {
+            format!(
+                "no static peak is resolved beside it (ΔF = {} N·m over {} rad/s gains {:.1} nats): the friction \
+                 stays Coulomb's constant level",
+                with_se(&self.peak),
+                with_se(&self.stribeck_velocity),
+                self.gain
+            )
         }
     }
 }

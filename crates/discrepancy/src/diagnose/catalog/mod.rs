@@ -231,6 +231,27 @@ pub fn trials(model: &Model, localisation: &Localisation) -> Vec<Trial> {
     }
 }
 
+/// The search for a named dry friction's static peak (module `friction` of
+/// [`mod@crate::diagnose`]): the two parameters' names and ranges, and the Stribeck velocities the
+/// refit starts from.
+pub struct StaticPeakSearch {
+    /// `static_peak` and its range.
+    pub peak: (String, (f64, f64)),
+    /// `stribeck_velocity` and its range.
+    pub velocity: (String, (f64, f64)),
+    /// Starting Stribeck velocities (the refit keeps the best).
+    pub velocity_starts: Vec<f64>,
+}
+
+/// Where a named dry friction's static peak is looked for on `model`: the slewing rig's hub
+/// friction; `None` for a structure (its dry friction has no static peak in the catalog).
+pub fn static_peak(model: &Model) -> Option<StaticPeakSearch> {
+    match model {
+        Model::Slewing(m) => Some(slewing::static_peak(m)),
+        Model::Structure(_) => None,
+    }
+}
+
 /// Cycles an unmodeled mode must complete within the record.
 const MIN_CYCLES: f64 = 3.0;
 

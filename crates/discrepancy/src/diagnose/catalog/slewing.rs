@@ -95,6 +95,21 @@ fn freed(effect: &Effect) -> Vec<ParamId> {
         .collect()
 }
 
+/// Where a named dry friction's static peak is looked for ([`super::StaticPeakSearch`]): the
+/// peak ΔF = F_s − F_c within the Coulomb torque's own range (0 to the servo torque at θ(0)),
+/// the Stribeck velocity v_st from 0.2 % to half the typical peak rate (its lower end four
+/// smoothing velocities, so that the peak is not a second smoothing of the switch), started at
+/// 1 % and 5 % of that rate — the Stribeck velocities of servo bearings and gears are a small
+/// fraction of their working speeds (Armstrong-Hélouvry et al. 1994).
+pub(super) fn static_peak(model: &SlewingModel) -> super::StaticPeakSearch {
+    let s = scales(model);
+    super::StaticPeakSearch {
+        peak: (ParamId::StaticPeak.name(), (0.0, s.servo_stiffness * s.theta0)),
+        velocity: (ParamId::StribeckVelocity.name(), (2e-3 * s.rate, 0.5 * s.rate)),
+        velocity_starts: vec![1e-2 * s.rate, 5e-2 * s.rate],
+    }
+}
+
 /// The catalog's candidates for `model` (which already carries the effects found so far), with
 /// the residual modes of `localisation` for an unmodeled mode. Effects the model has are not
 /// tried again (sensor effects: not again on the same sensor).
@@ -115,6 +130,8 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
             Effect::CoulombFriction {
                 torque: 0.02 * s.servo_stiffness * s.theta0,
                 smoothing_velocity: 5e-4 * s.rate,
+                static_peak: None,
+                stribeck_velocity: None,
             },
             "coulomb_friction".into(),
             vec![(ParamId::CoulombTorque, (0.0, s.servo_stiffness * s.theta0))],
@@ -123,10 +140,14 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
         .or_from(Effect::CoulombFriction {
             torque: 0.1 * s.servo_stiffness * s.theta0,
             smoothing_velocity: 5e-4 * s.rate,
+            static_peak: None,
+            stribeck_velocity: None,
         })
         .or_from(Effect::CoulombFriction {
             torque: 0.004 * s.servo_stiffness * s.theta0,
             smoothing_velocity: 5e-4 * s.rate,
+            static_peak: None,
+            stribeck_velocity: None,
         }),
         trial(
             // Drag equal to 20 % of the viscous torque at the peak rate.

@@ -1,0 +1,128 @@
+//! The form of a named dry friction (`coulomb_friction` at the slewing rig's hub): a constant
+//! level F_c, as the catalog's candidate has it, or one with a static peak?
+//!
+//! Real bearings, gears and brushes stick: the torque that starts the hub moving (the static,
+//! breakaway level F_s) exceeds the one that keeps it sliding, and the friction falls from the
+//! one to the other as the rate grows — the Stribeck effect (Armstrong-Hélouvry, Dupont &
+//! Canudas de Wit, "A survey of models, analysis tools and compensation methods for the control
+//! of machines with friction", Automatica 30(7), 1994). The candidate is scored with Coulomb's
+//! constant level, which a static peak changes only where the hub is nearly at rest (at the
+//! start, at reversals and while it settles); once the friction is named, the peak is refitted
+//! beside it, τ = −(F_c + ΔF e^{−(θ̇/v_st)²}) tanh(θ̇/v_s), with ΔF = F_s − F_c and the Stribeck
+//! velocity v_st free ([`crate::diagnose::catalog::StaticPeakSearch`] gives their ranges and
+//! starts).
+//!
+//! From the candidate's fit the friction is refitted to the fitter's own convergence, first as
+//! it is, then with the peak (from each start; the best is kept). The peak's gain is the
+//! difference of their in-sample log-likelihoods; the data demand it when it gains at least the
+//! held-out threshold and ΔF, v_st and the sliding level F_c beside them are all determined
+//! inside their ranges (standard error below half the value, off the bounds: a friction that
+//! sticks above a level at which it slides). Demanded, the named effect carries it (its parameters,
+//! the augmented model); otherwise the friction stays Coulomb's and the report says how far the
+//! peak got.
+
+use super::answer::{EffectParameter, StaticPeak, last_error};
+use super::catalog::{StaticPeakSearch, Trial};
+use super::{Candidate, mismatch, run};
+use mem::Measurement;
+use models::{FitOutcome, Model};
+use plant::{Effect, EffectKind};
+
+/// The static-peak test of a named `coulomb_friction` ([`StaticPeak`]); when the data demand
+/// the peak, the candidate's model, refit and parameters become those with it. `None` for any
+/// other candidate, for a friction that already has a peak, or when a refit fails.
+pub(super) fn static_peak(
+    candidate: &mut Candidate,
+    trial: &Trial,
+    free: &[String],
+    data: &Measurement,
+    threshold: f64,
+    gain: impl Fn(&FitOutcome) -> f64 + Sync,
+) -> Option<StaticPeak> {
+    if candidate.kind != EffectKind::CoulombFriction {
+        return None;
+    }
+    let fitted = candidate.model.as_ref()?;
+    let search = super::catalog::static_peak(fitted)?;
+    let Some(&Effect::CoulombFriction { torque, smoothing_velocity, static_peak: None, .. }) =
+        fitted.as_slewing()?.effects().iter().find(|e| e.kind() == EffectKind::CoulombFriction)
+    else {
+        return None;
+    };
+    let StaticPeakSearch {
+        peak: (peak_name, peak_range),
+        velocity: (velocity_name, velocity_range),
+        velocity_starts,
+    } = search;
+    // The peak starts at half the fitted Coulomb level (or a hundredth of its range if that is
+    // nothing), inside its range.
+    let peak_start =
+        if torque > 0.0 { 0.5 * torque } else { 0.01 * peak_range.1 }.clamp(peak_range.0, peak_range.1);
+    let with_peak = |velocity: f64| -> Option<Model> {
+        let mut model = fitted.clone();
+        let m = model.as_slewing_mut()?;
+        m.remove_effect(EffectKind::CoulombFriction, None).ok()?;
+        m.add_effect(Effect::CoulombFriction {
+            torque,
+            smoothing_velocity,
+            static_peak: Some(peak_start),
+            stribeck_velocity: Some(velocity.clamp(velocity_range.0, velocity_range.1)),
+        })
+        .ok()?;
+        for (name, bounds) in trial
+            .bounds
+            .iter()
+            .chain([&(peak_name.clone(), peak_range), &(velocity_name.clone(), velocity_range)])
+        {
+            model.set_bounds(name, *bounds).ok()?;
+        }
+        Some(model)
+    };
+    let refit = |model: &Model, free: &[String]| {
+        run::refit_to(model, data, free, None, 60, run::Precision::Optimum).ok()
+    };
+    let named: Vec<String> = free.iter().chain(&trial.freed).cloned().collect();
+    let peaked: Vec<String> =
+        named.iter().cloned().chain([peak_name.clone(), velocity_name.clone()]).collect();
+    let (as_named, best) = rayon::join(
+        || refit(fitted, &named),
+        || {
+            use rayon::prelude::*;
+            velocity_starts
+                .par_iter()
+                .filter_map(|&v| refit(&with_peak(v)?, &peaked))
+                .min_by(|a, b| last_error(a).total_cmp(&last_error(b)))
+        },
+    );
+    let (as_named, best) = (as_named?, best?);
+    let parameter = |name: &String| -> Option<EffectParameter> {
+        let i = best.report.names.iter().position(|n| n == name)?;
+        Some(EffectParameter {
+            name: name.clone(),
+            value: best.report.parameters[i],
+            std_error: best.report.std_error(i),
+        })
+    };
+    let added = gain(&best) - gain(&as_named);
+    // A peak is a friction that sticks above the level at which it slides: the sliding level
+    // must be there too (a "peak" over a Coulomb level fitted to nothing is a friction that acts
+    // only near rest — another form, which the peak would only stand in for).
+    let coulomb = plant::ParamId::CoulombTorque.name();
+    let demanded = added >= threshold
+        && [&peak_name, &velocity_name, &coulomb].into_iter().all(|name| mismatch::determined(&best, name));
+    let result = StaticPeak {
+        peak: parameter(&peak_name)?,
+        stribeck_velocity: parameter(&velocity_name)?,
+        coulomb_torque: parameter(&coulomb)?,
+        gain: added,
+        demanded,
+    };
+    if demanded {
+        let mut wider = trial.clone();
+        wider.freed.extend([peak_name, velocity_name]);
+        candidate.parameters = run::effect_parameters(&best, &wider);
+        candidate.model = Some(best.fitted.clone());
+        candidate.outcome = Some(best);
+    }
+    Some(result)
+}
