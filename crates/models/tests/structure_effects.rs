@@ -88,16 +88,17 @@ const RATE: f64 = -2e5;
 /// (k₂ = [`QUADRATIC`], k₅ = [`QUINTIC`], k₁′ = [`RATE`]), drag at q3 and dry friction at q2;
 /// returns q1, q3, and the acceleration of q3 at every `h`.
 fn rk4(k_samples: usize, h: f64, cubic: f64, drag: (f64, f64), friction: (f64, f64)) -> Vec<[f64; 3]> {
-    rk4_with(k_samples, h, (cubic, 1.0), drag, friction)
+    rk4_with(k_samples, h, (cubic, 1.0), drag, (friction.0, friction.1, 0.0, 1.0))
 }
 
-/// [`rk4`] with the spring's k₂, k₅ and k₁′ scaled by `spring.1` (0: a cubic spring alone).
+/// [`rk4`] with the spring's k₂, k₅ and k₁′ scaled by `spring.1` (0: a cubic spring alone), and
+/// the friction (F_c, v_s, ΔF, v_st) with a static peak ΔF falling over v_st.
 fn rk4_with(
     k_samples: usize,
     h: f64,
     spring: (f64, f64),
     drag: (f64, f64),
-    friction: (f64, f64),
+    friction: (f64, f64, f64, f64),
 ) -> Vec<[f64; 3]> {
     let (k, d) = building();
     let (cubic, others) = spring;
@@ -107,7 +108,8 @@ fn rk4_with(
         f[0] -= cubic * q[0].powi(3)
             + others * (QUADRATIC * q[0] * q[0] + QUINTIC * q[0].powi(5) + RATE * t * q[0]);
         f[2] -= drag.0 * v[2] * v[2].abs().powf(drag.1 - 1.0);
-        f[1] -= friction.0 * v[1] / (v[1] * v[1] + friction.1 * friction.1).sqrt();
+        let level = friction.0 + friction.2 * (-(v[1] / friction.3).powi(2)).exp();
+        f[1] -= level * v[1] / (v[1] * v[1] + friction.1 * friction.1).sqrt();
         let mut out = [v[0], v[1], v[2], 0.0, 0.0, 0.0];
         for i in 0..3 {
             let force: f64 = f[i] - (0..3).map(|j| k[i][j] * q[j] + d[i][j] * v[j]).sum::<f64>();
@@ -153,6 +155,37 @@ fn forces_at_coordinates_match_an_independent_runge_kutta() {
     let plain = respond(linear.response(&[]).unwrap().as_ref(), &[], k, h);
     let apart = (0..k).map(|s| (plain.outputs[(s, 1)] - reference[s][1]).abs()).fold(0.0, f64::max);
     assert!(apart > 100.0 * worst, "the effects change the response by {apart:e} only");
+}
+
+/// Dry friction with a static peak at q2, (F_c + ΔF e^{−(v/v_st)²})·v/√(v² + v_s²), against the
+/// independent Runge–Kutta; and its sensitivities to F_c, ΔF and v_st against central
+/// differences.
+#[test]
+fn a_friction_with_a_static_peak_matches_an_independent_runge_kutta() {
+    let model = with_effects(
+        "DryFriction(coordinate: \"q2\", force: 150, smoothing_velocity: 0.01, static_peak: Some(120), \
+         stribeck_velocity: Some(0.03))",
+    );
+    let (k, h) = (400, 0.005);
+    let reference = rk4_with(k, h, (0.0, 0.0), (0.0, 1.0), (150.0, 0.01, 120.0, 0.03));
+    let out = respond(model.response(&[]).unwrap().as_ref(), &[], k, h);
+    let (worst, peak) = worst_against(&out, &reference);
+    assert!(worst < 1e-4 * peak, "worst {worst:e} against a peak {peak:e}");
+    let without = rk4_with(k, h, (0.0, 0.0), (0.0, 1.0), (150.0, 0.01, 0.0, 1.0));
+    let apart = (0..k).map(|s| (without[s][1] - reference[s][1]).abs()).fold(0.0, f64::max);
+    assert!(apart > 100.0 * worst, "the peak changes the response by {apart:e} only");
+    let free = ["friction_q2", "static_peak_q2", "stribeck_velocity_q2", "k2"];
+    let response = model.response(&free).unwrap();
+    let p: Vec<f64> = free.iter().map(|n| model.value(n).unwrap()).collect();
+    let out = respond(response.as_ref(), &p, 300, h);
+    for i in 0..free.len() {
+        assert_central_differences(response.as_ref(), &p, &out, i, h, 1e-5);
+    }
+    let half =
+        "DryFriction(coordinate: \"q2\", force: 150, smoothing_velocity: 0.01, static_peak: Some(120))";
+    let text = FILE.trim_end().trim_end_matches(')').to_string() + &format!("    effects: [{half}],\n)\n");
+    let err = Model::from_ron(&text, "b.ron").expect_err("a peak without its velocity is refused");
+    assert!(err.to_string().contains("together"), "{err}");
 }
 
 /// A record that starts after the release: the forces read the time since the release (the
@@ -205,13 +238,13 @@ fn a_linear_damper_takes_the_exact_path() {
     let free = ["k1", "beta", "drag_q3"];
     let p: Vec<f64> = free.iter().map(|n| model.value(n).unwrap()).collect();
     let (k, h) = (400, 0.005);
-    let reference = rk4_with(k, h, (0.0, 0.0), (c, 1.0), (0.0, 0.01));
+    let reference = rk4_with(k, h, (0.0, 0.0), (c, 1.0), (0.0, 0.01, 0.0, 1.0));
     let response = model.response(&free).unwrap();
     let out = respond(response.as_ref(), &p, k, h);
     let (worst, peak) = worst_against(&out, &reference);
     assert!(worst < 1e-7 * peak, "worst {worst:e} against a peak {peak:e}");
     // The damper acts: the bare building is far from it.
-    let plain = rk4_with(k, h, (0.0, 0.0), (0.0, 1.0), (0.0, 0.01));
+    let plain = rk4_with(k, h, (0.0, 0.0), (0.0, 1.0), (0.0, 0.01, 0.0, 1.0));
     let apart = (0..k).map(|s| (plain[s][1] - reference[s][1]).abs()).fold(0.0, f64::max);
     assert!(apart > 1e3 * worst, "the damper changes the response by {apart:e} only");
     // Its sensitivity is the derivative of the response.

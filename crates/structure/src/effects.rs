@@ -6,7 +6,8 @@
 //!   leaves them out and the adapter layer (`models`) applies them.
 //! * **Local forces** at a coordinate q_j of a second-order model, entering as
 //!   M q̈ + D q̇ + K q = F u − e_j f_j(q_j, q̇_j):
-//!   dry friction f = F_c·v/√(v² + v_s²) (a smooth sign of width v_s), drag
+//!   dry friction f = (F_c + ΔF e^{−(v/v_st)²})·v/√(v² + v_s²) (a smooth sign of width v_s;
+//!   the static peak ΔF over the Stribeck velocity v_st optional), drag
 //!   f = c·v·|v|^(e−1) (velocity exponent e ≥ 1, quadratic for e = 2), and a hardening
 //!   (k₃ > 0) or softening (k₃ < 0) spring f = k₃ q³ + k₂ q² + k₅ q⁵ + k₁′ t q (k₂, its
 //!   asymmetric part, k₅, and k₁′, a linear stiffness that changes over the record at time t
@@ -24,6 +25,7 @@
 //!
 //! Every effect's parameters join the model's, after the file's, with names that say where they
 //! act: `offset_<output>`, `scale_<output>`, `drift_<output>`, `friction_<coordinate>`,
+//! `static_peak_<coordinate>`, `stribeck_velocity_<coordinate>`,
 //! `drag_<coordinate>`, `drag_exponent_<coordinate>`, `cubic_<coordinate>`, `quadratic_<coordinate>`, `quintic_<coordinate>`,
 //! `stiffness_rate_<coordinate>`, `mode_frequency`,
 //! `mode_damping`, `mode_cos_<output>`, `mode_sin_<output>`. A quantization step and a friction's
@@ -65,7 +67,8 @@ pub enum Effect {
         /// The step Δ > 0.
         step: f64,
     },
-    /// Dry friction F_c·v/√(v² + v_s²) at a coordinate \[N\].
+    /// Dry friction (F_c + ΔF e^{−(v/v_st)²})·v/√(v² + v_s²) at a coordinate \[N\]: Coulomb's
+    /// level F_c, with a static peak ΔF over the Stribeck velocity v_st if given.
     DryFriction {
         /// The coordinate.
         coordinate: String,
@@ -73,6 +76,14 @@ pub enum Effect {
         force: f64,
         /// v_s > 0, the velocity over which the force reverses.
         smoothing_velocity: f64,
+        /// ΔF = F_s − F_c ≥ 0, how far the friction at rest exceeds the sliding level (0 when
+        /// absent); a parameter `static_peak_<coordinate>` when given, with `stribeck_velocity`.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        static_peak: Option<f64>,
+        /// v_st > 0, the velocity over which the peak falls, as e^{−(v/v_st)²}; a parameter
+        /// `stribeck_velocity_<coordinate>` when given.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        stribeck_velocity: Option<f64>,
     },
     /// Drag c·v·|v|^(e−1) at a coordinate.
     Drag {
@@ -190,7 +201,12 @@ impl Effect {
             Effect::SensorScale { output, scale } => vec![(format!("scale_{output}"), *scale)],
             Effect::SensorDrift { output, rate } => vec![(format!("drift_{output}"), *rate)],
             Effect::SensorQuantization { .. } => Vec::new(),
-            Effect::DryFriction { coordinate, force, .. } => vec![(format!("friction_{coordinate}"), *force)],
+            Effect::DryFriction { coordinate, force, static_peak, stribeck_velocity, .. } => {
+                let mut out = vec![(format!("friction_{coordinate}"), *force)];
+                out.extend(static_peak.map(|p| (format!("static_peak_{coordinate}"), p)));
+                out.extend(stribeck_velocity.map(|v| (format!("stribeck_velocity_{coordinate}"), v)));
+                out
+            }
             Effect::Drag { coordinate, coefficient, exponent } => vec![
                 (format!("drag_{coordinate}"), *coefficient),
                 (format!("drag_exponent_{coordinate}"), *exponent),
@@ -221,8 +237,13 @@ impl Effect {
         match self {
             Effect::OutputOffset { offset: v, .. }
             | Effect::SensorScale { scale: v, .. }
-            | Effect::SensorDrift { rate: v, .. }
-            | Effect::DryFriction { force: v, .. } => *v = value,
+            | Effect::SensorDrift { rate: v, .. } => *v = value,
+            Effect::DryFriction { force, static_peak, stribeck_velocity, .. } => {
+                let mut slots: Vec<&mut f64> = vec![force];
+                slots.extend(static_peak.as_mut());
+                slots.extend(stribeck_velocity.as_mut());
+                *slots[k] = value;
+            }
             Effect::CubicStiffness { coefficient, quadratic, quintic, rate, .. } => {
                 let mut slots: Vec<&mut f64> = vec![coefficient];
                 slots.extend(quadratic.as_mut());
@@ -270,6 +291,17 @@ impl Effect {
                 Effect::DryFriction { smoothing_velocity: v, .. } if !(v.is_finite() && *v > 0.0) => {
                     Some(format!("smoothing_velocity = {v}: give a positive velocity"))
                 }
+                Effect::DryFriction { static_peak, stribeck_velocity, .. }
+                    if static_peak.is_some() != stribeck_velocity.is_some() =>
+                {
+                    Some("give `static_peak` and `stribeck_velocity` together (or neither)".into())
+                }
+                Effect::DryFriction { static_peak: Some(p), .. } if *p < 0.0 => {
+                    Some(format!("static_peak = {p}: give a peak ≥ 0"))
+                }
+                Effect::DryFriction { stribeck_velocity: Some(v), .. } if *v <= 0.0 => {
+                    Some(format!("stribeck_velocity = {v}: give a positive velocity"))
+                }
                 Effect::Drag { exponent, .. } if *exponent < 1.0 => {
                     Some(format!("exponent = {exponent}: give an exponent of at least 1"))
                 }
@@ -299,9 +331,15 @@ impl Effect {
     pub(crate) fn force<D: Scalar>(&self, t: f64, x: &[D], n: usize, j: usize, theta: &[D]) -> D {
         let (q, v) = (x[j], x[n + j]);
         match self {
-            Effect::DryFriction { smoothing_velocity, .. } => {
+            Effect::DryFriction { smoothing_velocity, static_peak, .. } => {
                 let vs = D::from(*smoothing_velocity);
-                theta[0] * v / (v * v + vs * vs).sqrt()
+                let level = if static_peak.is_some() {
+                    let r = v / theta[2];
+                    theta[0] + theta[1] * (-(r * r)).exp()
+                } else {
+                    theta[0]
+                };
+                level * v / (v * v + vs * vs).sqrt()
             }
             Effect::Drag { .. } => {
                 let (c, e) = (theta[0], theta[1]);

@@ -1,39 +1,42 @@
-//! The form of a named dry friction (`coulomb_friction` at the slewing rig's hub): a constant
-//! level F_c, as the catalog's candidate has it, or one with a static peak?
+//! The form of a named dry friction (`coulomb_friction` at the slewing rig's hub, or at a
+//! structure's coordinate): a constant level F_c, as the catalog's candidate has it, or one with
+//! a static peak?
 //!
-//! Real bearings, gears and brushes stick: the torque that starts the hub moving (the static,
-//! breakaway level F_s) exceeds the one that keeps it sliding, and the friction falls from the
-//! one to the other as the rate grows — the Stribeck effect (Armstrong-Hélouvry, Dupont &
-//! Canudas de Wit, "A survey of models, analysis tools and compensation methods for the control
-//! of machines with friction", Automatica 30(7), 1994). The candidate is scored with Coulomb's
-//! constant level, which a static peak changes only where the hub is nearly at rest (at the
-//! start, at reversals and while it settles); once the friction is named, the peak is refitted
-//! beside it, τ = −(F_c + ΔF e^{−(θ̇/v_st)²}) tanh(θ̇/v_s), with ΔF = F_s − F_c and the Stribeck
-//! velocity v_st free ([`crate::diagnose::catalog::StaticPeakSearch`] gives their ranges and
-//! starts).
+//! Real bearings, gears, brushes and sliding joints stick: the force that starts the motion
+//! (the static, breakaway level F_s) exceeds the one that keeps it sliding, and the friction
+//! falls from one to the other as the rate grows — the Stribeck effect (Armstrong-Hélouvry,
+//! Dupont & Canudas de Wit, "A survey of models, analysis tools and compensation methods for the
+//! control of machines with friction", Automatica 30(7), 1994). The candidate is scored with
+//! Coulomb's constant level, which a static peak changes only where the motion nearly stops (at
+//! the start, at reversals and while it settles); once the friction is named, the peak is
+//! refitted beside it, F = (F_c + ΔF e^{−(v/v_st)²})·s(v), with s the friction's smooth sign,
+//! ΔF = F_s − F_c and the Stribeck velocity v_st free
+//! ([`crate::diagnose::catalog::StaticPeakSearch`] gives their ranges and starts).
 //!
 //! From the candidate's fit the friction is refitted to the fitter's own convergence, first as
 //! it is, then with the peak (from each start; the best is kept). The peak's gain is the
 //! difference of their in-sample log-likelihoods; the data demand it when it gains at least the
 //! held-out threshold and ΔF, v_st and the sliding level F_c beside them are all determined
 //! inside their ranges (standard error below half the value, off the bounds: a friction that
-//! sticks above a level at which it slides). Demanded, the named effect carries it (its parameters,
-//! the augmented model); otherwise the friction stays Coulomb's and the report says how far the
-//! peak got.
+//! sticks above a level at which it slides). Demanded, the named effect carries it (its
+//! parameters, the augmented model); otherwise the friction stays Coulomb's and the report says
+//! how far the peak got.
 
 use super::answer::{EffectParameter, StaticPeak, last_error};
-use super::catalog::{StaticPeakSearch, Trial};
+use super::catalog::Trial;
 use super::{Candidate, mismatch, run};
 use mem::Measurement;
 use models::{FitOutcome, Model};
-use plant::{Effect, EffectKind};
+use plant::EffectKind;
 
-/// The static-peak test of a named `coulomb_friction` ([`StaticPeak`]); when the data demand
-/// the peak, the candidate's model, refit and parameters become those with it. `None` for any
-/// other candidate, for a friction that already has a peak, or when a refit fails.
+/// The static-peak test of a named `coulomb_friction` ([`StaticPeak`]), refitted from
+/// `reference` (which lacks the friction) with the candidate's values; when the data demand the
+/// peak, the candidate's model, refit and parameters become those with it. `None` for any other
+/// candidate, for a friction that already has a peak, or when a refit fails.
 pub(super) fn static_peak(
     candidate: &mut Candidate,
     trial: &Trial,
+    reference: &Model,
     free: &[String],
     data: &Measurement,
     threshold: f64,
@@ -43,32 +46,25 @@ pub(super) fn static_peak(
         return None;
     }
     let fitted = candidate.model.as_ref()?;
-    let search = super::catalog::static_peak(fitted)?;
-    let Some(&Effect::CoulombFriction { torque, smoothing_velocity, static_peak: None, .. }) =
-        fitted.as_slewing()?.effects().iter().find(|e| e.kind() == EffectKind::CoulombFriction)
-    else {
-        return None;
-    };
-    let StaticPeakSearch {
-        peak: (peak_name, peak_range),
-        velocity: (velocity_name, velocity_range),
-        velocity_starts,
-    } = search;
+    let search = super::catalog::static_peak(fitted, &trial.effect)?;
+    let (peak_name, peak_range) = search.peak.clone();
+    let (velocity_name, velocity_range) = search.velocity.clone();
+    let coulomb = search.coulomb.clone();
+    let torque = fitted.value(&coulomb).ok()?;
     // The peak starts at half the fitted Coulomb level (or a hundredth of its range if that is
     // nothing), inside its range.
     let peak_start =
         if torque > 0.0 { 0.5 * torque } else { 0.01 * peak_range.1 }.clamp(peak_range.0, peak_range.1);
+    // The reference (which lacks the friction) with the friction and its peak added, every
+    // other value the candidate's fit, in the candidate's ranges and the peak's.
     let with_peak = |velocity: f64| -> Option<Model> {
-        let mut model = fitted.clone();
-        let m = model.as_slewing_mut()?;
-        m.remove_effect(EffectKind::CoulombFriction, None).ok()?;
-        m.add_effect(Effect::CoulombFriction {
-            torque,
-            smoothing_velocity,
-            static_peak: Some(peak_start),
-            stribeck_velocity: Some(velocity.clamp(velocity_range.0, velocity_range.1)),
-        })
-        .ok()?;
+        let mut model = reference.clone();
+        model
+            .add_effect(search.friction_with(peak_start, velocity.clamp(velocity_range.0, velocity_range.1)))
+            .ok()?;
+        for name in fitted.parameter_names() {
+            model.set(&name, fitted.value(&name).ok()?).ok()?;
+        }
         for (name, bounds) in trial
             .bounds
             .iter()
@@ -88,7 +84,8 @@ pub(super) fn static_peak(
         || refit(fitted, &named),
         || {
             use rayon::prelude::*;
-            velocity_starts
+            search
+                .velocity_starts
                 .par_iter()
                 .filter_map(|&v| refit(&with_peak(v)?, &peaked))
                 .min_by(|a, b| last_error(a).total_cmp(&last_error(b)))
@@ -107,7 +104,6 @@ pub(super) fn static_peak(
     // A peak is a friction that sticks above the level at which it slides: the sliding level
     // must be there too (a "peak" over a Coulomb level fitted to nothing is a friction that acts
     // only near rest — another form, which the peak would only stand in for).
-    let coulomb = plant::ParamId::CoulombTorque.name();
     let demanded = added >= threshold
         && [&peak_name, &velocity_name, &coulomb].into_iter().all(|name| mismatch::determined(&best, name));
     let result = StaticPeak {

@@ -316,6 +316,7 @@ pub fn diagnose_observed(
         static_peak = friction::static_peak(
             &mut candidates[i],
             trial,
+            &reference.outcome.fitted,
             &reference_free,
             &data,
             options.threshold,

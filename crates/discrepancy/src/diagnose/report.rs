@@ -318,15 +318,19 @@ impl Diagnosis {
 impl StaticPeak {
     /// The friction's form in words: the peak the data demand, or how far it got.
     fn sentence(&self) -> String {
+        // The slewing rig's hub friction is a torque against a rate; a structure's acts in its
+        // coordinate's own units.
+        let (force, rate) = if self.peak.name == "static_peak" { (" N·m", " rad/s") } else { ("", "") };
         let with_se = |p: &EffectParameter| match p.std_error {
             Some(se) => format!("{:.3e} ± {se:.1e}", p.value),
             None => format!("{:.3e} (not determined)", p.value),
         };
         if self.demanded {
             format!(
-                "the friction has a static peak: it breaks away at F_c + ΔF = {:.3e} N·m and slides at F_c = {} N·m, \
-                 the peak ΔF = {} N·m falling over the Stribeck velocity {} rad/s (gains {:.1} nats over a constant \
-                 level); the named friction carries it",
+                "the friction has a static peak: it breaks away at F_c + ΔF = {:.3e}{force} and slides at F_c = \
+                 {}{force}, the peak ΔF = {}{force} falling over the Stribeck velocity {}{rate} (gains {:.1} nats over \
+                 a constant level); the named friction carries it. Its height and width are those of this form, \
+                 e^{{−(v/v_st)²}}: the standard errors do not include what another form of the peak would move them",
                 self.coulomb_torque.value + self.peak.value,
                 with_se(&self.coulomb_torque),
                 with_se(&self.peak),
@@ -335,7 +339,7 @@ impl StaticPeak {
             )
         } else {
             format!(
-                "no static peak is resolved beside it (ΔF = {} N·m over {} rad/s gains {:.1} nats): the friction \
+                "no static peak is resolved beside it (ΔF = {}{force} over {}{rate} gains {:.1} nats): the friction \
                  stays Coulomb's constant level",
                 with_se(&self.peak),
                 with_se(&self.stribeck_velocity),

@@ -232,23 +232,53 @@ pub fn trials(model: &Model, localisation: &Localisation) -> Vec<Trial> {
 }
 
 /// The search for a named dry friction's static peak (module `friction` of
-/// [`mod@crate::diagnose`]): the two parameters' names and ranges, and the Stribeck velocities the
-/// refit starts from.
+/// [`mod@crate::diagnose`]): the parameters' names and ranges, the Stribeck velocities the
+/// refit starts from, and the friction itself.
 pub struct StaticPeakSearch {
-    /// `static_peak` and its range.
+    /// `static_peak…` and its range.
     pub peak: (String, (f64, f64)),
-    /// `stribeck_velocity` and its range.
+    /// `stribeck_velocity…` and its range.
     pub velocity: (String, (f64, f64)),
+    /// The friction's sliding level (`coulomb_torque`, `friction_<c>`).
+    pub coulomb: String,
     /// Starting Stribeck velocities (the refit keeps the best).
     pub velocity_starts: Vec<f64>,
+    /// The named friction, to which the peak is added.
+    friction: ModelEffect,
 }
 
-/// Where a named dry friction's static peak is looked for on `model`: the slewing rig's hub
-/// friction; `None` for a structure (its dry friction has no static peak in the catalog).
-pub fn static_peak(model: &Model) -> Option<StaticPeakSearch> {
-    match model {
-        Model::Slewing(m) => Some(slewing::static_peak(m)),
-        Model::Structure(_) => None,
+impl StaticPeakSearch {
+    /// The named friction with a static peak `peak` falling over `velocity`.
+    pub fn friction_with(&self, peak: f64, velocity: f64) -> ModelEffect {
+        match self.friction.clone() {
+            ModelEffect::Slewing(plant::Effect::CoulombFriction { torque, smoothing_velocity, .. }) => {
+                ModelEffect::Slewing(plant::Effect::CoulombFriction {
+                    torque,
+                    smoothing_velocity,
+                    static_peak: Some(peak),
+                    stribeck_velocity: Some(velocity),
+                })
+            }
+            other => other,
+        }
+    }
+}
+
+/// Where the static peak of the dry friction `effect` (a trial's, without a peak) is looked for
+/// on `model`: the slewing rig's hub friction. `None` for any other effect, and for a
+/// structure's friction: the catalog smooths it over 1 % of the coordinate's peak rate (what the
+/// integrator's substep allows at the largest force of its range), and a peak over a few
+/// smoothing velocities cannot be told from a sharper switch — on the structure study's plain
+/// tanh frictions (18 records of its development, held-out and fresh sets) a peak gained 34–240
+/// nats with its Stribeck velocity on a bound of its range. A structure file may still
+/// state a peak (`DryFriction(…, static_peak: Some(ΔF), stribeck_velocity: Some(v_st))`).
+pub fn static_peak(model: &Model, effect: &ModelEffect) -> Option<StaticPeakSearch> {
+    match (model, effect) {
+        (
+            Model::Slewing(m),
+            ModelEffect::Slewing(e @ plant::Effect::CoulombFriction { static_peak: None, .. }),
+        ) => Some(slewing::static_peak(m, e.clone())),
+        _ => None,
     }
 }
 

@@ -149,6 +149,8 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
                     coordinate: c.clone(),
                     force: 0.02 * k * q,
                     smoothing_velocity: 0.01 * v,
+                    static_peak: None,
+                    stribeck_velocity: None,
                 },
                 format!("coulomb_friction({c})"),
                 vec![(format!("friction_{c}"), (0.0, 0.3 * k * q))],
@@ -159,6 +161,8 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
                 coordinate: c.clone(),
                 force: 0.1 * k * q,
                 smoothing_velocity: 0.01 * v,
+                static_peak: None,
+                stribeck_velocity: None,
             }),
         );
         out.push(
