@@ -24,24 +24,18 @@
 
 use super::answer::{EffectParameter, StaticPeak, last_error};
 use super::catalog::Trial;
+use super::named::FormTest;
 use super::{Candidate, mismatch, run};
-use mem::Measurement;
-use models::{FitOutcome, Model};
+
+use models::Model;
 use plant::EffectKind;
 
-/// The static-peak test of a named `coulomb_friction` ([`StaticPeak`]), refitted from
-/// `reference` (which lacks the friction) with the candidate's values; when the data demand the
+/// The static-peak test of a named `coulomb_friction` ([`StaticPeak`]), refitted from the
+/// test's reference (which lacks the friction) with the candidate's values; when the data demand the
 /// peak, the candidate's model, refit and parameters become those with it. `None` for any other
 /// candidate, for a friction that already has a peak, or when a refit fails.
-pub(super) fn static_peak(
-    candidate: &mut Candidate,
-    trial: &Trial,
-    reference: &Model,
-    free: &[String],
-    data: &Measurement,
-    threshold: f64,
-    gain: impl Fn(&FitOutcome) -> f64 + Sync,
-) -> Option<StaticPeak> {
+pub(super) fn static_peak(candidate: &mut Candidate, trial: &Trial, test: &FormTest) -> Option<StaticPeak> {
+    let FormTest { reference, free, data, threshold, gain } = *test;
     if candidate.kind != EffectKind::CoulombFriction {
         return None;
     }
@@ -60,7 +54,11 @@ pub(super) fn static_peak(
     let with_peak = |velocity: f64| -> Option<Model> {
         let mut model = reference.clone();
         model
-            .add_effect(search.friction_with(peak_start, velocity.clamp(velocity_range.0, velocity_range.1)))
+            .add_effect(search.friction_with(
+                torque,
+                peak_start,
+                velocity.clamp(velocity_range.0, velocity_range.1),
+            ))
             .ok()?;
         for name in fitted.parameter_names() {
             model.set(&name, fitted.value(&name).ok()?).ok()?;

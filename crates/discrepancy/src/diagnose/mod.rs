@@ -293,15 +293,15 @@ pub fn diagnose_observed(
         }
         // A symmetric spring whose data demand an asymmetric part (a one-sided force) or a
         // stiffness that changes with time (a degradation): physics outside the catalog.
-        spring = spring::form(
-            &candidates[i],
-            trial,
-            &reference.outcome.fitted,
-            &reference_free,
-            &data,
-            options.threshold,
-            |o| evidence::gain(&likelihoods(o), &reference_likelihoods),
-        );
+        let gain = |o: &FitOutcome| evidence::gain(&likelihoods(o), &reference_likelihoods);
+        let test = named::FormTest {
+            reference: &reference.outcome.fitted,
+            free: &reference_free,
+            data: &data,
+            threshold: options.threshold,
+            gain: &gain,
+        };
+        spring = spring::form(&candidates[i], trial, &test);
         if let Some(form) = &spring {
             let demanded = [(&form.asymmetric, Verdict::Asymmetric), (&form.changing, Verdict::TimeVarying)]
                 .into_iter()
@@ -313,15 +313,7 @@ pub fn diagnose_observed(
             }
         }
         // A named dry friction: does it stick (a static peak above its sliding level)?
-        static_peak = friction::static_peak(
-            &mut candidates[i],
-            trial,
-            &reference.outcome.fitted,
-            &reference_free,
-            &data,
-            options.threshold,
-            |o| evidence::gain(&likelihoods(o), &reference_likelihoods),
-        );
+        static_peak = friction::static_peak(&mut candidates[i], trial, &test);
         Some(i)
     })();
     // The equivalents belong to a named scale only; the rivals to a named effect or to the one

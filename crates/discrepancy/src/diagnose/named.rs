@@ -138,6 +138,24 @@ pub(super) fn polish(candidate: &mut Candidate, trial: &Trial, free: &[String], 
     }
 }
 
+/// What a test of a named effect's form refits against (the spring's form, module `spring`;
+/// the friction's static peak, module `friction`): the reference's fitted model and free
+/// parameters, the record, the held-out threshold, and the gain of a refit over the reference
+/// (nats, the likelihood every candidate is scored by).
+#[derive(Clone, Copy)]
+pub(super) struct FormTest<'a> {
+    /// The reference's fitted model (which lacks the named effect).
+    pub reference: &'a Model,
+    /// The reference's free parameters.
+    pub free: &'a [String],
+    /// The record the candidates were fitted to.
+    pub data: &'a Measurement,
+    /// The held-out threshold (nats).
+    pub threshold: f64,
+    /// In-sample log-likelihood gain of a refit over the reference (nats).
+    pub gain: &'a (dyn Fn(&FitOutcome) -> f64 + Sync),
+}
+
 /// The candidates (other than a lattice) that passed every test — `Outscored`, or the one
 /// `Named` among them — whose held-out gains lie within `threshold` of the best of theirs: the
 /// data do not tell them apart, and [`choose`] names one of them by its strength.

@@ -318,9 +318,8 @@ impl Diagnosis {
 impl StaticPeak {
     /// The friction's form in words: the peak the data demand, or how far it got.
     fn sentence(&self) -> String {
-        // The slewing rig's hub friction is a torque against a rate; a structure's acts in its
-        // coordinate's own units.
-        let (force, rate) = if self.peak.name == "static_peak" { (" N·m", " rad/s") } else { ("", "") };
+        // The slewing rig's hub friction (the only one tested): a torque against a rate.
+        let (force, rate) = (" N·m", " rad/s");
         let with_se = |p: &EffectParameter| match p.std_error {
             Some(se) => format!("{:.3e} ± {se:.1e}", p.value),
             None => format!("{:.3e} (not determined)", p.value),

@@ -24,9 +24,10 @@
 
 use super::answer::{SpringForm, SpringTerm};
 use super::catalog::Trial;
+use super::named::FormTest;
 use super::{Candidate, EffectParameter, mismatch, run};
-use mem::Measurement;
-use models::{FitOutcome, Model};
+
+use models::Model;
 
 /// The bounds of the refinements, in the spring's own scales (k_cc and q̂_c from the model,
 /// [`super::catalog::structure::scales`]; T the record's last time): k₅ within ±10 k_cc/q̂_c⁴,
@@ -46,15 +47,8 @@ const WALD_Z: f64 = 5.0;
 
 /// The spring-form test of a named structure `cubic_stiffness` ([`SpringForm`]). `None` for any
 /// other candidate, or when a refit fails.
-pub(super) fn form(
-    candidate: &Candidate,
-    trial: &Trial,
-    reference: &Model,
-    free: &[String],
-    data: &Measurement,
-    threshold: f64,
-    gain: impl Fn(&FitOutcome) -> f64 + Sync,
-) -> Option<SpringForm> {
+pub(super) fn form(candidate: &Candidate, trial: &Trial, test: &FormTest) -> Option<SpringForm> {
+    let FormTest { reference, free, data, threshold, gain } = *test;
     let models::ModelEffect::Structure(structure::Effect::CubicStiffness {
         coordinate,
         quadratic: None,

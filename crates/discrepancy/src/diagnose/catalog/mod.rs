@@ -233,7 +233,7 @@ pub fn trials(model: &Model, localisation: &Localisation) -> Vec<Trial> {
 
 /// The search for a named dry friction's static peak (module `friction` of
 /// [`mod@crate::diagnose`]): the parameters' names and ranges, the Stribeck velocities the
-/// refit starts from, and the friction itself.
+/// refit starts from, and the friction's smoothing.
 pub struct StaticPeakSearch {
     /// `static_peak…` and its range.
     pub peak: (String, (f64, f64)),
@@ -243,24 +243,20 @@ pub struct StaticPeakSearch {
     pub coulomb: String,
     /// Starting Stribeck velocities (the refit keeps the best).
     pub velocity_starts: Vec<f64>,
-    /// The named friction, to which the peak is added.
-    friction: ModelEffect,
+    /// The named friction's fixed smoothing velocity.
+    smoothing_velocity: f64,
 }
 
 impl StaticPeakSearch {
-    /// The named friction with a static peak `peak` falling over `velocity`.
-    pub fn friction_with(&self, peak: f64, velocity: f64) -> ModelEffect {
-        match self.friction.clone() {
-            ModelEffect::Slewing(plant::Effect::CoulombFriction { torque, smoothing_velocity, .. }) => {
-                ModelEffect::Slewing(plant::Effect::CoulombFriction {
-                    torque,
-                    smoothing_velocity,
-                    static_peak: Some(peak),
-                    stribeck_velocity: Some(velocity),
-                })
-            }
-            other => other,
-        }
+    /// The slewing rig's hub friction at Coulomb level `torque` with a static peak `peak`
+    /// falling over `velocity`.
+    pub fn friction_with(&self, torque: f64, peak: f64, velocity: f64) -> ModelEffect {
+        ModelEffect::Slewing(plant::Effect::CoulombFriction {
+            torque,
+            smoothing_velocity: self.smoothing_velocity,
+            static_peak: Some(peak),
+            stribeck_velocity: Some(velocity),
+        })
     }
 }
 
@@ -276,8 +272,12 @@ pub fn static_peak(model: &Model, effect: &ModelEffect) -> Option<StaticPeakSear
     match (model, effect) {
         (
             Model::Slewing(m),
-            ModelEffect::Slewing(e @ plant::Effect::CoulombFriction { static_peak: None, .. }),
-        ) => Some(slewing::static_peak(m, e.clone())),
+            ModelEffect::Slewing(plant::Effect::CoulombFriction {
+                static_peak: None,
+                smoothing_velocity,
+                ..
+            }),
+        ) => Some(slewing::static_peak(m, *smoothing_velocity)),
         _ => None,
     }
 }

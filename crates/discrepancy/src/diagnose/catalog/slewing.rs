@@ -101,14 +101,14 @@ fn freed(effect: &Effect) -> Vec<ParamId> {
 /// smoothing velocities, so that the peak is not a second smoothing of the switch), started at
 /// 1 % and 5 % of that rate — the Stribeck velocities of servo bearings and gears are a small
 /// fraction of their working speeds (Armstrong-Hélouvry et al. 1994).
-pub(super) fn static_peak(model: &SlewingModel, friction: Effect) -> super::StaticPeakSearch {
+pub(super) fn static_peak(model: &SlewingModel, smoothing_velocity: f64) -> super::StaticPeakSearch {
     let s = scales(model);
     super::StaticPeakSearch {
         peak: (ParamId::StaticPeak.name(), (0.0, s.servo_stiffness * s.theta0)),
         velocity: (ParamId::StribeckVelocity.name(), (2e-3 * s.rate, 0.5 * s.rate)),
         coulomb: ParamId::CoulombTorque.name(),
         velocity_starts: vec![1e-2 * s.rate, 5e-2 * s.rate],
-        friction: friction.into(),
+        smoothing_velocity,
     }
 }
 
