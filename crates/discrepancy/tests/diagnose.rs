@@ -142,6 +142,46 @@ fn a_friction_without_a_peak_keeps_a_constant_level() {
     assert_eq!(names, ["coulomb_torque"]);
 }
 
+/// An armature current clamped right below the demand (an ideal clamp at 3.46 A, 95 % of the
+/// demand at θ(0); `fixtures/independent/slewing_hub_torques.py`), decimated to 12.8 Hz:
+/// named a saturation, and the knee refitted beside it runs to the clamp's end of its range and
+/// is carried, with the limit within 3 % of the truth (the catalog's limiter x/(1 + |x/L|⁸)^{1/8}
+/// alone put it at 4.22 A, 22 % high).
+#[test]
+fn a_clamped_current_is_named_with_a_sharp_knee_and_its_level() {
+    let d = decimated_fixture("slewing_current_clamp");
+    let named = d.named().expect("a clamp of hundreds of nats is named");
+    assert_eq!(named.label, "amplifier_saturation", "{:?}", d.answer());
+    let knee = d.saturation_knee.as_ref().expect("the knee is tried beside a named saturation");
+    assert!(knee.demanded && knee.clamp && knee.gain >= d.threshold, "{knee:?}");
+    let value = |name: &str| named.parameters.iter().find(|p| p.name == name).map(|p| p.value);
+    let limit = value("current_limit").unwrap();
+    assert!((limit / 3.46 - 1.0).abs() < 0.03, "I {limit}");
+    assert!(value("current_knee").is_some(), "the named saturation carries its knee");
+    assert!(d.answer().iter().any(|s| s.contains("clamp")), "{:?}", d.answer());
+}
+
+/// An amplifier voltage limited softly, V tanh(u/V) with V = 6 V against a demand of 7.65 V (a
+/// form outside the limiter's family; `fixtures/independent/slewing_hub_torques.py`),
+/// decimated to 12.8 Hz: named a saturation, with a soft knee demanded and carried (n well
+/// below the catalog's 8; measured 2.16 as the voltage limit, docs/diagnose.md).
+#[test]
+fn a_soft_voltage_limit_is_named_with_a_soft_knee() {
+    let d =
+        decimated_fixture_from("slewing_voltage_tanh", |t| t.replace("hub_angle: 0.5,", "hub_angle: 0.6,"));
+    let named = d.named().expect("a soft limit of hundreds of nats is named");
+    assert!(
+        matches!(named.label.as_str(), "voltage_saturation" | "amplifier_saturation"),
+        "{:?}",
+        d.answer()
+    );
+    let knee = d.saturation_knee.as_ref().expect("the knee is tried beside a named saturation");
+    assert!(knee.demanded && !knee.clamp && knee.gain >= d.threshold, "{knee:?}");
+    assert!(knee.knee.value > 1.0 && knee.knee.value < 4.0, "n {:?}", knee.knee);
+    let carried = named.parameters.iter().any(|p| p.name.ends_with("_knee"));
+    assert!(carried, "the named saturation carries its knee: {:?}", named.parameters);
+}
+
 /// A mode damped about 32 % and coupled to the hub through a dashpot, in a record from the
 /// study's independent truth plant (`fixtures/independent/slewing_damped_mode.py`: 0.55 Hz, the
 /// dashpot's coupling 0.45 N·m·s/√kg), decimated to 12.8 Hz. ERA sees no peak there and seeds

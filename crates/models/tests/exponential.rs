@@ -15,9 +15,11 @@ fn with_effects(effects: &str) -> SlewingModel {
 
 /// Every nonlinear effect of the catalog, at strengths that visibly change the response, sharp
 /// friction included.
-const CASES: [(&str, &[&str]); 8] = [
+const CASES: [(&str, &[&str]); 10] = [
     ("AmplifierSaturation(current_limit: 1.2, sharp: false)", &["cv", "kp", "current_limit"]),
     ("VoltageSaturation(voltage_limit: 2.5, sharp: false)", &["cv", "kp", "voltage_limit"]),
+    ("VoltageSaturation(voltage_limit: 4.0, knee: Some(2.0))", &["cv", "voltage_limit", "voltage_knee"]),
+    ("AmplifierSaturation(current_limit: 1.2, knee: Some(30.0))", &["kp", "current_limit", "current_knee"]),
     (
         "CoulombFriction(torque: 0.004, smoothing_velocity: 0.0002)",
         &["cv", "kp", "coulomb_torque", "hub_inertia"],

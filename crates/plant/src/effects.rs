@@ -7,8 +7,8 @@
 //!
 //! | effect | parameters (names) | form |
 //! | --- | --- | --- |
-//! | `AmplifierSaturation` | `current_limit` \[A\] | armature current i = sat((e_a − K_bθ̇)/R_a) |
-//! | `VoltageSaturation` | `voltage_limit` \[V\] | amplifier output e_a = sat(G K_p(θ_ref − θ)); the back-EMF still acts |
+//! | `AmplifierSaturation` | `current_limit` \[A\], optional `current_knee` n | armature current i = sat((e_a − K_bθ̇)/R_a) |
+//! | `VoltageSaturation` | `voltage_limit` \[V\], optional `voltage_knee` n | amplifier output e_a = sat(G K_p(θ_ref − θ)); the back-EMF still acts |
 //! | `CoulombFriction` | `coulomb_torque` \[N·m\], optional `static_peak` ΔF \[N·m\] and `stribeck_velocity` v_st \[rad/s\] | τ = −(F_c + ΔF e^{−(θ̇/v_st)²}) tanh(θ̇/v_s), v_s fixed smoothing velocity: dry friction, with a static peak that falls to the Coulomb level over v_st (Stribeck; Armstrong-Hélouvry, Dupont & Canudas de Wit 1994) when given |
 //! | `QuadraticDrag` | `drag_hub` \[N·m·(s/rad)ᵖ\], optional `drag_exponent` p | τ = −c_d \|θ̇\|ᵖ sign θ̇ (p = 2 unless given: air drag, the paper's ref. 10) |
 //! | `CubicStiffness` | `cubic_stiffness` \[N·m/rad³\], optional `hub_stiffness` k₁ \[N·m/rad\] | τ = −k₁θ − k₃θ³ on the hub (hardening for k₃ > 0, softening for k₃ < 0; k₁ = 0 unless given) |
@@ -120,10 +120,16 @@ pub enum Effect<D = f64> {
         /// Current limit \[A\].
         current_limit: D,
         /// `true`: an ideal clamp (for truth data; not differentiable at the corner).
-        /// `false` (default): the smooth limiter i/(1 + (i/I)⁸)^{1/8}, within 1 % of linear
-        /// below 0.6·I and of the clamp above 2·I.
+        /// `false` (default): the smooth limiter i/(1 + |i/I|ⁿ)^{1/n} with n = 8 (or `knee`),
+        /// within 1 % of linear below 0.6·I and of the clamp above 2·I.
         #[serde(default)]
         sharp: bool,
+        /// The limiter's knee n (`current_knee`), 8 when absent: how sharply the output turns from
+        /// linear to the limit. Large n approaches the clamp; n = 2 is the soft limit
+        /// i/√(1 + (i/I)²), below the linear law by 1 % already at 0.14·I. A parameter when
+        /// given; ignored by a sharp clamp.
+        #[serde(default)]
+        knee: Option<D>,
     },
     /// Output voltage limit of the power amplifier.
     VoltageSaturation {
@@ -132,6 +138,10 @@ pub enum Effect<D = f64> {
         /// An ideal clamp (`true`) or the smooth limiter of [`Effect::AmplifierSaturation`].
         #[serde(default)]
         sharp: bool,
+        /// The smooth limiter's knee n (`voltage_knee`), 8 when absent (as
+        /// [`Effect::AmplifierSaturation`]'s).
+        #[serde(default)]
+        knee: Option<D>,
     },
     /// Dry friction at the hub, smoothed by tanh so that sensitivities exist.
     CoulombFriction {
@@ -297,12 +307,16 @@ impl<D> Effect<D> {
     /// Converts the parameter values with `f`.
     pub fn map<E>(&self, f: impl Fn(&D) -> E) -> Effect<E> {
         match self {
-            Effect::AmplifierSaturation { current_limit, sharp } => {
-                Effect::AmplifierSaturation { current_limit: f(current_limit), sharp: *sharp }
-            }
-            Effect::VoltageSaturation { voltage_limit, sharp } => {
-                Effect::VoltageSaturation { voltage_limit: f(voltage_limit), sharp: *sharp }
-            }
+            Effect::AmplifierSaturation { current_limit, sharp, knee } => Effect::AmplifierSaturation {
+                current_limit: f(current_limit),
+                sharp: *sharp,
+                knee: knee.as_ref().map(&f),
+            },
+            Effect::VoltageSaturation { voltage_limit, sharp, knee } => Effect::VoltageSaturation {
+                voltage_limit: f(voltage_limit),
+                sharp: *sharp,
+                knee: knee.as_ref().map(&f),
+            },
             Effect::CoulombFriction { torque, smoothing_velocity, static_peak, stribeck_velocity } => {
                 Effect::CoulombFriction {
                     torque: f(torque),

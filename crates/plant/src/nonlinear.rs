@@ -34,8 +34,8 @@ pub struct Dynamics<D: Scalar> {
     pub hub_input: DVector<D>,
     /// State layout.
     pub layout: Layout,
-    saturation: Option<(D, bool)>,
-    voltage: Option<(D, bool)>,
+    saturation: Option<Limiter<D>>,
+    voltage: Option<Limiter<D>>,
     coulomb: Option<Friction<D>>,
     drag: Option<(D, Option<D>)>,
     /// k₃ of a hub spring (its linear part is in A).
@@ -48,6 +48,28 @@ pub struct Dynamics<D: Scalar> {
     torque_constant: D,
     servo_stiffness: D,
     emf_damping: D,
+}
+
+/// A limit on the amplifier's current or voltage: the level, an ideal clamp or not, and the
+/// smooth limiter's knee when given.
+#[derive(Clone, Copy, Debug)]
+struct Limiter<D> {
+    limit: D,
+    sharp: bool,
+    knee: Option<D>,
+}
+
+impl<D: Scalar> Limiter<D> {
+    /// The limited value: the ideal clamp, or the smooth limiter with its knee.
+    fn apply(&self, value: D) -> D {
+        if self.sharp {
+            return clamp(value, self.limit);
+        }
+        match self.knee {
+            Some(knee) => smooth_limit_with_knee(value, self.limit, knee),
+            None => smooth_limit(value, self.limit),
+        }
+    }
 }
 
 /// Dry friction at the hub: the Coulomb level, its smoothing velocity, and the static peak with
@@ -87,10 +109,12 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
     let mut backlash = None;
     for e in &c.effects {
         match e {
-            Effect::AmplifierSaturation { current_limit, sharp } => {
-                saturation = Some((*current_limit, *sharp))
+            Effect::AmplifierSaturation { current_limit, sharp, knee } => {
+                saturation = Some(Limiter { limit: *current_limit, sharp: *sharp, knee: *knee })
             }
-            Effect::VoltageSaturation { voltage_limit, sharp } => voltage = Some((*voltage_limit, *sharp)),
+            Effect::VoltageSaturation { voltage_limit, sharp, knee } => {
+                voltage = Some(Limiter { limit: *voltage_limit, sharp: *sharp, knee: *knee })
+            }
             Effect::CoulombFriction { torque, smoothing_velocity, static_peak, stribeck_velocity } => {
                 let stribeck = static_peak.zip(*stribeck_velocity);
                 coulomb =
@@ -131,6 +155,8 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
 /// Beyond the limit it is evaluated as sign(i)·I / (1 + (I/i)⁸)^{1/8}, the same function: r⁸
 /// never overflows, so value and derivatives stay finite for a limit however small against the
 /// current (a dead band fitted down to nothing, a saturation far below the demand).
+///
+/// (The limiter with any other knee is [`smooth_limit_with_knee`].)
 pub fn smooth_limit<D: Scalar>(current: D, limit: D) -> D {
     // (1 + r⁸)^{−1/8} by three square roots: the same value, far cheaper than a power.
     let root = |r: D| DualNum::sqrt(&DualNum::sqrt(&DualNum::sqrt(&(D::from(1.0) + DualNum::powi(&r, 8)))));
@@ -139,6 +165,32 @@ pub fn smooth_limit<D: Scalar>(current: D, limit: D) -> D {
     } else {
         let sign = if (current.re() < 0.0) == (limit.re() < 0.0) { 1.0 } else { -1.0 };
         limit * D::from(sign) / root(limit / current)
+    }
+}
+
+/// The smooth limiter with knee n: x / (1 + |x/L|ⁿ)^{1/n} (n = 8 is [`smooth_limit`]).
+///
+/// |x/L|ⁿ = exp(n ln|x/L|), so the value's derivatives in x, L and n all exist; beyond the limit
+/// it is evaluated as sign(x)·L / (1 + |L/x|ⁿ)^{1/n}, the same function with nothing that
+/// overflows.
+pub fn smooth_limit_with_knee<D: Scalar>(value: D, limit: D, knee: D) -> D {
+    // (1 + rⁿ)^{−1/n} for 0 < r ≤ 1.
+    // rⁿ below e^{−700} (10⁻³⁰⁴) changes nothing a double holds: 1, with no derivative (r may
+    // have underflowed, and 0·ln 0 is no number).
+    let shrink = |r: D| {
+        let log_power = knee * DualNum::ln(&r);
+        if log_power.re() < -700.0 {
+            return D::from(1.0);
+        }
+        DualNum::exp(&(-DualNum::ln(&(D::from(1.0) + DualNum::exp(&log_power))) / knee))
+    };
+    if value.re() == 0.0 {
+        value
+    } else if value.re().abs() <= limit.re().abs() {
+        value * shrink(abs(value / limit))
+    } else {
+        let sign = if (value.re() < 0.0) == (limit.re() < 0.0) { 1.0 } else { -1.0 };
+        limit * D::from(sign) * shrink(abs(limit / value))
     }
 }
 
@@ -175,8 +227,10 @@ impl<D: Scalar> Dynamics<D> {
             self.servo_stiffness,
             self.emf_damping,
         ];
-        out.extend(self.saturation.map(|s| s.0));
-        out.extend(self.voltage.map(|s| s.0));
+        for limiter in self.saturation.iter().chain(&self.voltage) {
+            out.push(limiter.limit);
+            out.extend(limiter.knee);
+        }
         if let Some(f) = self.coulomb {
             out.push(f.torque);
             out.extend(f.stribeck.into_iter().flat_map(|(p, v)| [p, v]));
@@ -206,12 +260,12 @@ impl<D: Scalar> Dynamics<D> {
         let servo = if self.saturation.is_some() || self.voltage.is_some() {
             // e_a = G K_p (θ_ref − θ_c) with θ_ref = 0, limited; i = (e_a − K_b θ̇)/R_a, limited.
             let mut volts = -self.amplifier_voltage_gain * controlled;
-            if let Some((limit, sharp)) = self.voltage {
-                volts = limit_with(volts, limit, sharp);
+            if let Some(limiter) = self.voltage {
+                volts = limiter.apply(volts);
             }
             let mut current = (volts - self.back_emf_constant * motor_rate) / self.armature_resistance;
-            if let Some((limit, sharp)) = self.saturation {
-                current = limit_with(current, limit, sharp);
+            if let Some(limiter) = self.saturation {
+                current = limiter.apply(current);
             }
             self.torque_constant * current + self.servo_stiffness * controlled + self.emf_damping * motor_rate
         } else {
@@ -267,11 +321,8 @@ fn dead_band_limit<D: Scalar>(delta: D, half: D) -> D {
     if half.re() <= 0.0 { D::from(0.0) } else { smooth_limit(delta, half) }
 }
 
-/// The smooth limiter, or an ideal clamp (not differentiable at the corner; truth data only).
-fn limit_with<D: Scalar>(value: D, limit: D, sharp: bool) -> D {
-    if !sharp {
-        return smooth_limit(value, limit);
-    }
+/// The ideal clamp (not differentiable at the corner; truth data only).
+fn clamp<D: Scalar>(value: D, limit: D) -> D {
     if value.re() > limit.re() {
         limit
     } else if value.re() < -limit.re() {

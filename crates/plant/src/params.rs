@@ -107,6 +107,10 @@ pub enum ParamId {
     Backlash,
     /// `gear_frequency` of `Backlash`.
     GearFrequency,
+    /// `current_knee` of `AmplifierSaturation` (when given): the limiter's knee n.
+    CurrentKnee,
+    /// `voltage_knee` of `VoltageSaturation` (when given): the limiter's knee n.
+    VoltageKnee,
     /// `static_peak` of `CoulombFriction` (when given): F_s − F_c.
     StaticPeak,
     /// `stribeck_velocity` of `CoulombFriction` (when given).
@@ -140,7 +144,7 @@ const CORE: [(&str, ParamId, &str); 13] = [
     ("amplifier_gain", ParamId::AmplifierGain, "motor.amplifier_gain"),
 ];
 
-const EFFECT_PARAMS: [(&str, ParamId, &str); 17] = [
+const EFFECT_PARAMS: [(&str, ParamId, &str); 19] = [
     ("backlash", ParamId::Backlash, "dead_band"),
     ("gear_frequency", ParamId::GearFrequency, "gear_frequency_hz"),
     ("current_limit", ParamId::CurrentLimit, "current_limit"),
@@ -150,6 +154,8 @@ const EFFECT_PARAMS: [(&str, ParamId, &str); 17] = [
     ("hub_stiffness", ParamId::HubStiffness, "linear"),
     ("extra_mode_stiffness_coupling", ParamId::ExtraModeStiffnessCoupling, "stiffness_coupling"),
     ("extra_mode_damping_coupling", ParamId::ExtraModeDampingCoupling, "damping_coupling"),
+    ("current_knee", ParamId::CurrentKnee, "knee"),
+    ("voltage_knee", ParamId::VoltageKnee, "knee"),
     ("coulomb_torque", ParamId::CoulombTorque, "torque"),
     ("static_peak", ParamId::StaticPeak, "static_peak"),
     ("stribeck_velocity", ParamId::StribeckVelocity, "stribeck_velocity"),
@@ -212,7 +218,9 @@ impl ParamId {
             | ParamId::ExtraModeFrequency
             | ParamId::Backlash
             | ParamId::GearFrequency
-            | ParamId::StribeckVelocity => SignRule::Positive,
+            | ParamId::StribeckVelocity
+            | ParamId::CurrentKnee
+            | ParamId::VoltageKnee => SignRule::Positive,
             ParamId::Offset(_)
             | ParamId::Scale(_)
             | ParamId::Drift(_)
@@ -258,8 +266,18 @@ impl ParamId {
     /// The parameters an effect brings.
     pub fn of_effect<D>(effect: &Effect<D>) -> Vec<ParamId> {
         match effect {
-            Effect::AmplifierSaturation { .. } => vec![ParamId::CurrentLimit],
-            Effect::VoltageSaturation { .. } => vec![ParamId::VoltageLimit],
+            Effect::AmplifierSaturation { knee, .. } => {
+                [Some(ParamId::CurrentLimit), knee.as_ref().map(|_| ParamId::CurrentKnee)]
+                    .into_iter()
+                    .flatten()
+                    .collect()
+            }
+            Effect::VoltageSaturation { knee, .. } => {
+                [Some(ParamId::VoltageLimit), knee.as_ref().map(|_| ParamId::VoltageKnee)]
+                    .into_iter()
+                    .flatten()
+                    .collect()
+            }
             Effect::CoulombFriction { static_peak, stribeck_velocity, .. } => {
                 let mut ids = vec![ParamId::CoulombTorque];
                 if static_peak.is_some() {
@@ -345,6 +363,8 @@ macro_rules! effect_field {
         $effects.into_iter().find_map(|e| match (e, $id) {
             (Effect::AmplifierSaturation { current_limit, .. }, ParamId::CurrentLimit) => Some(current_limit),
             (Effect::VoltageSaturation { voltage_limit, .. }, ParamId::VoltageLimit) => Some(voltage_limit),
+            (Effect::AmplifierSaturation { knee: Some(n), .. }, ParamId::CurrentKnee) => Some(n),
+            (Effect::VoltageSaturation { knee: Some(n), .. }, ParamId::VoltageKnee) => Some(n),
             (Effect::CoulombFriction { torque, .. }, ParamId::CoulombTorque) => Some(torque),
             (Effect::CoulombFriction { static_peak: Some(p), .. }, ParamId::StaticPeak) => Some(p),
             (Effect::CoulombFriction { stribeck_velocity: Some(v), .. }, ParamId::StribeckVelocity) => {

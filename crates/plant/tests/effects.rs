@@ -1,6 +1,6 @@
 //! The effects catalog: augmentations, limits that reduce to the linear model, derivatives.
 
-use plant::nonlinear::smooth_limit;
+use plant::nonlinear::{smooth_limit, smooth_limit_with_knee};
 use plant::{ModeKind, ParamId, SlewingModel};
 
 fn with_effects(effects: &str) -> SlewingModel {
@@ -203,6 +203,59 @@ fn smooth_limiter_derivatives_stay_finite_for_any_ratio() {
         );
         assert!(close(by_limit.eps, d_limit), "∂/∂I at ({i}, {limit}): {} vs {d_limit}", by_limit.eps);
     }
+}
+
+/// The limiter with a knee n against closed forms: n = 2 is i/√(1 + (i/I)²) with
+/// ∂y/∂i = (1 + r²)^{−3/2}; n = 8 is [`smooth_limit`]; and ∂y/∂n =
+/// y·[ln(1 + rⁿ)/n² − rⁿ ln r/(n(1 + rⁿ))] (r = |i/I|), on both sides of the limit, at ratios
+/// whose power overflows, and at rest (y = 0, ∂y/∂n = 0).
+#[test]
+fn a_limiter_with_a_knee_matches_its_closed_form() {
+    use num_dual::Dual64;
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1e-300);
+    for (i, limit) in [(0.3f64, 1.0f64), (-0.9, 1.0), (1.1, 1.0), (-4.0, 2.5), (7.0, 1e-3), (0.0, 1.0)] {
+        let r: f64 = (i / limit).abs();
+        let soft = smooth_limit_with_knee(Dual64::new(i, 1.0), Dual64::from(limit), Dual64::from(2.0));
+        let expected = i / (1.0 + r * r).sqrt();
+        assert!(close(soft.re, expected), "n = 2 at ({i}, {limit}): {} vs {expected}", soft.re);
+        let d_i = (1.0 + r * r).powf(-1.5);
+        assert!(close(soft.eps, d_i), "∂/∂i at ({i}, {limit}): {} vs {d_i}", soft.eps);
+        let eight = smooth_limit_with_knee(i, limit, 8.0);
+        assert!(close(eight, smooth_limit(i, limit)), "n = 8 at ({i}, {limit}): {eight}");
+        for n in [1.0f64, 2.7, 20.0] {
+            let by_n = smooth_limit_with_knee(Dual64::from(i), Dual64::from(limit), Dual64::new(n, 1.0));
+            let q = (n * r.ln()).exp();
+            let y = i * (1.0 + q).powf(-1.0 / n);
+            let d_n =
+                if i == 0.0 { 0.0 } else { y * ((1.0 + q).ln() / (n * n) - q * r.ln() / (n * (1.0 + q))) };
+            assert!(close(by_n.re, y), "value, n = {n} at ({i}, {limit}): {} vs {y}", by_n.re);
+            assert!(
+                // Against the value's scale: beyond the limit the reference's two terms cancel.
+                (by_n.eps - d_n).abs() <= 1e-10 * (y.abs() + d_n.abs()),
+                "∂/∂n, n = {n} at ({i}, {limit}): {} vs {d_n}",
+                by_n.eps
+            );
+        }
+    }
+    // Far beyond the limit the power overflows; the value is the limit and stays finite.
+    let far = smooth_limit_with_knee(Dual64::new(1e300, 1.0), Dual64::from(1e-10), Dual64::new(50.0, 1.0));
+    assert!((far.re - 1e-10).abs() < 1e-22 && far.eps.is_finite(), "{far:?}");
+}
+
+/// A saturation's knee is a parameter of the model when given, and a file that states a knee of
+/// zero is rejected with its place named.
+#[test]
+fn a_saturation_knee_is_a_parameter_when_given() {
+    let m = with_effects("VoltageSaturation(voltage_limit: 6.0, knee: Some(2.5))");
+    assert_eq!(m.parameter("voltage_knee").unwrap(), ParamId::VoltageKnee);
+    let plain = with_effects("AmplifierSaturation(current_limit: 3.0)");
+    assert!(plain.parameter("current_knee").is_err(), "not a parameter when absent");
+    let zero = plant::PAPER_MODEL_RON.replace(
+        "    bounds: {",
+        "    effects: [AmplifierSaturation(current_limit: 3.0, knee: Some(0.0))],\n    bounds: {",
+    );
+    let msg = SlewingModel::from_ron(&zero, "zero.ron").unwrap_err().to_string();
+    assert!(msg.contains("zero.ron") && msg.contains("knee") && msg.contains("> 0"), "{msg}");
 }
 
 #[test]

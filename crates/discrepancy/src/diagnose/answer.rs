@@ -140,6 +140,27 @@ pub struct StaticPeak {
     pub demanded: bool,
 }
 
+/// The knee of a named saturation (module `saturation` of [`mod@crate::diagnose`]): the
+/// limiter x/(1 + |x/L|ⁿ)^{1/n} with n free beside the limit L.
+#[derive(Clone, Debug, Serialize)]
+pub struct SaturationKnee {
+    /// n (`current_knee`, `voltage_knee`): 8 is the catalog's limiter, large n the clamp, 2 a
+    /// soft limit.
+    pub knee: EffectParameter,
+    /// The limit, refitted beside the knee.
+    pub limit: EffectParameter,
+    /// In-sample gain of the knee over the catalog's limiter, both refitted to convergence
+    /// (nats).
+    pub gain: f64,
+    /// Whether the knee came out at 50 or more: a clamp (within 1.4 % of one at the limit, closer
+    /// elsewhere), sharper ones barely told apart.
+    pub clamp: bool,
+    /// Whether the data demand it: it gains at least the held-out threshold, the limit is
+    /// determined inside its range, and the knee is too or is a clamp. Demanded, the named
+    /// saturation carries it.
+    pub demanded: bool,
+}
+
 /// The evidence for one candidate, every figure a difference of the same log-likelihood
 /// ([`super::evidence`]) to the reference's (the baseline with the model's own parameters free).
 #[derive(Clone, Debug, Default, Serialize)]
@@ -276,6 +297,9 @@ pub struct Diagnosis {
     /// For a named `coulomb_friction` on the slewing rig: its static peak refitted beside it
     /// ([`StaticPeak`]); `None` otherwise, or when a refit failed.
     pub static_peak: Option<StaticPeak>,
+    /// The knee of a named saturation on the slewing rig ([`SaturationKnee`]); `None`
+    /// otherwise, or when a refit failed.
+    pub saturation_knee: Option<SaturationKnee>,
     /// Readings set aside as glitches before anything was fitted (module [`crate::glitch`]).
     pub glitches: Vec<crate::glitch::Glitch>,
 }

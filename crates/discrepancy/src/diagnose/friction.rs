@@ -22,9 +22,9 @@
 //! parameters, the augmented model); otherwise the friction stays Coulomb's and the report says
 //! how far the peak got.
 
-use super::answer::{EffectParameter, StaticPeak, last_error};
+use super::answer::StaticPeak;
 use super::catalog::Trial;
-use super::named::FormTest;
+use super::named::{FormTest, parameter_of};
 use super::{Candidate, mismatch, run};
 
 use models::Model;
@@ -35,7 +35,7 @@ use plant::EffectKind;
 /// peak, the candidate's model, refit and parameters become those with it. `None` for any other
 /// candidate, for a friction that already has a peak, or when a refit fails.
 pub(super) fn static_peak(candidate: &mut Candidate, trial: &Trial, test: &FormTest) -> Option<StaticPeak> {
-    let FormTest { reference, free, data, threshold, gain } = *test;
+    let FormTest { reference, free, threshold, gain, .. } = *test;
     if candidate.kind != EffectKind::CoulombFriction {
         return None;
     }
@@ -72,32 +72,15 @@ pub(super) fn static_peak(candidate: &mut Candidate, trial: &Trial, test: &FormT
         }
         Some(model)
     };
-    let refit = |model: &Model, free: &[String]| {
-        run::refit_to(model, data, free, None, 60, run::Precision::Optimum).ok()
-    };
     let named: Vec<String> = free.iter().chain(&trial.freed).cloned().collect();
-    let peaked: Vec<String> =
-        named.iter().cloned().chain([peak_name.clone(), velocity_name.clone()]).collect();
-    let (as_named, best) = rayon::join(
-        || refit(fitted, &named),
-        || {
-            use rayon::prelude::*;
-            search
-                .velocity_starts
-                .par_iter()
-                .filter_map(|&v| refit(&with_peak(v)?, &peaked))
-                .min_by(|a, b| last_error(a).total_cmp(&last_error(b)))
-        },
-    );
-    let (as_named, best) = (as_named?, best?);
-    let parameter = |name: &String| -> Option<EffectParameter> {
-        let i = best.report.names.iter().position(|n| n == name)?;
-        Some(EffectParameter {
-            name: name.clone(),
-            value: best.report.parameters[i],
-            std_error: best.report.std_error(i),
-        })
-    };
+    let (as_named, best) = test.refit_pair(
+        fitted,
+        &named,
+        &[peak_name.clone(), velocity_name.clone()],
+        &search.velocity_starts,
+        with_peak,
+    )?;
+    let parameter = |name: &String| parameter_of(&best, name);
     let added = gain(&best) - gain(&as_named);
     // A peak is a friction that sticks above the level at which it slides: the sliding level
     // must be there too (a "peak" over a Coulomb level fitted to nothing is a friction that acts

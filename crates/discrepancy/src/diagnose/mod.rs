@@ -45,6 +45,11 @@
 //! `friction`; F_c beside them must be determined too); otherwise it stays Coulomb's constant
 //! level. The name does not change.
 //!
+//! A named saturation on the slewing rig is likewise refitted with the knee n of its limiter
+//! x/(1 + |x/L|ⁿ)^{1/n} free (the catalog's is n = 8, near a clamp; n = 2 a soft limit): where
+//! n and L are determined and the knee gains at least the threshold in sample, the named
+//! saturation carries it ([`SaturationKnee`], module `saturation`). The name does not change.
+//!
 //! Sensor quantization is a measurement model, not a force: it is named when the raw readings
 //! of a sensor lie on a lattice while the signal moves, with a step comparable to the noise or
 //! larger ([`crate::quantization`]).
@@ -59,13 +64,14 @@ mod quantized;
 mod report;
 mod residual;
 mod run;
+mod saturation;
 mod schedule;
 mod score;
 mod spring;
 
 pub use answer::{
-    AddedTerm, Candidate, Diagnosis, EffectParameter, Evidence, RIVAL_MARGIN, Rival, SpringForm, SpringTerm,
-    StaticPeak, Verdict,
+    AddedTerm, Candidate, Diagnosis, EffectParameter, Evidence, RIVAL_MARGIN, Rival, SaturationKnee,
+    SpringForm, SpringTerm, StaticPeak, Verdict,
 };
 pub use report::DiagnosisReport;
 
@@ -269,6 +275,7 @@ pub fn diagnose_observed(
     let mut rivals = Vec::new();
     let mut spring = None;
     let mut static_peak = None;
+    let mut saturation_knee = None;
     let chosen = (|| {
         let i = choose(&candidates, options.threshold)?;
         candidates[i].verdict = Verdict::Named;
@@ -314,6 +321,8 @@ pub fn diagnose_observed(
         }
         // A named dry friction: does it stick (a static peak above its sliding level)?
         static_peak = friction::static_peak(&mut candidates[i], trial, &test);
+        // A named saturation: is its limit softer than the catalog's limiter?
+        saturation_knee = saturation::knee(&mut candidates[i], trial, &test);
         Some(i)
     })();
     // The equivalents belong to a named scale only; the rivals to a named effect or to the one
@@ -347,6 +356,7 @@ pub fn diagnose_observed(
         rivals,
         spring,
         static_peak,
+        saturation_knee,
         glitches,
     })
 }

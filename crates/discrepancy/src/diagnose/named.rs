@@ -156,6 +156,46 @@ pub(super) struct FormTest<'a> {
     pub gain: &'a (dyn Fn(&FitOutcome) -> f64 + Sync),
 }
 
+impl FormTest<'_> {
+    /// The refits a test of a named effect's form compares, each to the fitter's own
+    /// convergence: `fitted` (the candidate's model) as it is, with `named` free; and the
+    /// richer form `with(start)` with `extra` freed beside them, from each of `starts` (the
+    /// best kept), in parallel. `None` if a refit fails (or every start does).
+    pub fn refit_pair(
+        &self,
+        fitted: &Model,
+        named: &[String],
+        extra: &[String],
+        starts: &[f64],
+        with: impl Fn(f64) -> Option<Model> + Sync,
+    ) -> Option<(FitOutcome, FitOutcome)> {
+        let refit = |model: &Model, free: &[String]| {
+            run::refit_to(model, self.data, free, None, 60, run::Precision::Optimum).ok()
+        };
+        let richer: Vec<String> = named.iter().chain(extra).cloned().collect();
+        let (as_named, best) = rayon::join(
+            || refit(fitted, named),
+            || {
+                starts
+                    .par_iter()
+                    .filter_map(|&start| refit(&with(start)?, &richer))
+                    .min_by(|a, b| last_error(a).total_cmp(&last_error(b)))
+            },
+        );
+        Some((as_named?, best?))
+    }
+}
+
+/// A parameter of a refit by name, with its standard error (`None` if the refit lacks it).
+pub(super) fn parameter_of(outcome: &FitOutcome, name: &str) -> Option<super::EffectParameter> {
+    let i = outcome.report.names.iter().position(|n| n == name)?;
+    Some(super::EffectParameter {
+        name: name.to_string(),
+        value: outcome.report.parameters[i],
+        std_error: outcome.report.std_error(i),
+    })
+}
+
 /// The candidates (other than a lattice) that passed every test — `Outscored`, or the one
 /// `Named` among them — whose held-out gains lie within `threshold` of the best of theirs: the
 /// data do not tell them apart, and [`choose`] names one of them by its strength.

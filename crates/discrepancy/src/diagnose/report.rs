@@ -1,6 +1,6 @@
 //! The diagnosis in words and as the JSON document of `memid diagnose --json` (docs/json.md).
 
-use super::{Diagnosis, EffectParameter, NoiseModel, ResidualStructure, StaticPeak, Verdict};
+use super::{Diagnosis, EffectParameter, NoiseModel, ResidualStructure, SaturationKnee, StaticPeak, Verdict};
 use crate::localise::Localisation;
 use crate::quantization;
 use serde::Serialize;
@@ -51,6 +51,8 @@ pub struct DiagnosisReport<'a> {
     /// beside it, and whether the data demand it — demanded, the named friction carries it;
     /// absent otherwise.
     pub static_friction_peak: Option<&'a super::StaticPeak>,
+    /// The knee of a named saturation ([`SaturationKnee`]), when one was tested.
+    pub saturation_knee: Option<&'a SaturationKnee>,
     /// Readings set aside as glitches before anything was fitted, each replaced by the line
     /// through the readings that bound its run (empty if none).
     pub glitches: &'a [crate::glitch::Glitch],
@@ -155,6 +157,7 @@ impl Diagnosis {
                     ));
                 }
                 out.extend(self.static_peak.as_ref().map(StaticPeak::sentence));
+                out.extend(self.saturation_knee.as_ref().map(SaturationKnee::sentence));
                 // The rivals the named one was chosen among: not told apart by these data.
                 if let Some(x) = c.evidence.held_out {
                     let tied = super::named::not_told_apart(&self.candidates, self.threshold);
@@ -310,6 +313,7 @@ impl Diagnosis {
             asymmetric_spring: self.spring.as_ref().map(|f| &f.asymmetric),
             changing_spring: self.spring.as_ref().map(|f| &f.changing),
             static_friction_peak: self.static_peak.as_ref(),
+            saturation_knee: self.saturation_knee.as_ref(),
             glitches: &self.glitches,
         }
     }
@@ -342,6 +346,45 @@ impl StaticPeak {
                  stays Coulomb's constant level",
                 with_se(&self.peak),
                 with_se(&self.stribeck_velocity),
+                self.gain
+            )
+        }
+    }
+}
+
+impl SaturationKnee {
+    /// The limiter's form in words: the knee the data demand, or how far it got.
+    fn sentence(&self) -> String {
+        let with_se = |p: &EffectParameter| match p.std_error {
+            Some(se) => format!("{:.3} ± {se:.1e}", p.value),
+            None => format!("{:.3} (not determined)", p.value),
+        };
+        let unit = if self.limit.name.starts_with("current") { " A" } else { " V" };
+        if self.demanded && self.clamp {
+            format!(
+                "the limit is a clamp: the limiter's knee comes out at n = {:.0} (50 or more is within 1.4 % of a clamp; \
+                 it gains {:.1} nats over the catalog's n = 8), with the limit L = {}{unit}; the named saturation \
+                 carries it",
+                self.knee.value,
+                self.gain,
+                with_se(&self.limit)
+            )
+        } else if self.demanded {
+            let shape = if self.knee.value < 8.0 { "softer" } else { "sharper" };
+            format!(
+                "the limit is {shape} than the catalog's limiter x/(1 + |x/L|⁸)^{{1/8}}: its knee n = {} with the limit \
+                 L = {}{unit} (gains {:.1} nats over n = 8; n → ∞ is a clamp, n = 2 the soft x/√(1 + (x/L)²)); the \
+                 named saturation carries it. L is the level of this family, which a soft limiter reaches only \
+                 slowly: the standard errors do not include what another form of the knee would move them",
+                with_se(&self.knee),
+                with_se(&self.limit),
+                self.gain
+            )
+        } else {
+            format!(
+                "no knee other than the catalog's is resolved (n = {} gains {:.1} nats over n = 8): the limiter \
+                 stays x/(1 + |x/L|⁸)^{{1/8}}",
+                with_se(&self.knee),
                 self.gain
             )
         }

@@ -282,6 +282,49 @@ pub fn static_peak(model: &Model, effect: &ModelEffect) -> Option<StaticPeakSear
     }
 }
 
+/// The search for a named saturation's knee (module `saturation` of
+/// [`mod@crate::diagnose`]): the knee's and the limit's names and ranges, the knees the refit
+/// starts from, and the limiter it refines.
+pub struct KneeSearch {
+    /// `current_knee` or `voltage_knee`, and its range.
+    pub knee: (String, (f64, f64)),
+    /// The limit (`current_limit`, `voltage_limit`) and its range beside a knee: a soft limiter
+    /// bends the output well below its level, which may then lie above the demand.
+    pub limit: (String, (f64, f64)),
+    /// Starting knees (the refit keeps the best).
+    pub knee_starts: Vec<f64>,
+    /// The named limiter (its kind; its level is the refit's).
+    kind: EffectKind,
+}
+
+impl KneeSearch {
+    /// The named limiter at level `limit` with knee `knee`.
+    pub fn limiter_with(&self, limit: f64, knee: f64) -> ModelEffect {
+        let knee = Some(knee);
+        ModelEffect::Slewing(match self.kind {
+            EffectKind::VoltageSaturation => {
+                plant::Effect::VoltageSaturation { voltage_limit: limit, sharp: false, knee }
+            }
+            _ => plant::Effect::AmplifierSaturation { current_limit: limit, sharp: false, knee },
+        })
+    }
+}
+
+/// Where the knee of the saturation `effect` (a trial's smooth limiter, without a knee of its
+/// own) is looked for on `model`: the slewing rig's amplifier. `None` for any other effect.
+pub fn knee(model: &Model, effect: &ModelEffect) -> Option<KneeSearch> {
+    match (model, effect) {
+        (
+            Model::Slewing(m),
+            ModelEffect::Slewing(
+                e @ (plant::Effect::AmplifierSaturation { sharp: false, knee: None, .. }
+                | plant::Effect::VoltageSaturation { sharp: false, knee: None, .. }),
+            ),
+        ) => Some(slewing::knee(m, e.kind())),
+        _ => None,
+    }
+}
+
 /// Cycles an unmodeled mode must complete within the record.
 const MIN_CYCLES: f64 = 3.0;
 
