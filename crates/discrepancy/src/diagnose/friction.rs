@@ -27,7 +27,6 @@ use super::catalog::Trial;
 use super::named::{FormTest, parameter_of};
 use super::{Candidate, mismatch, run};
 
-use models::Model;
 use plant::EffectKind;
 
 /// The static-peak test of a named `coulomb_friction` ([`StaticPeak`]), refitted from the
@@ -35,7 +34,7 @@ use plant::EffectKind;
 /// peak, the candidate's model, refit and parameters become those with it. `None` for any other
 /// candidate, for a friction that already has a peak, or when a refit fails.
 pub(super) fn static_peak(candidate: &mut Candidate, trial: &Trial, test: &FormTest) -> Option<StaticPeak> {
-    let FormTest { reference, free, threshold, gain, .. } = *test;
+    let FormTest { free, threshold, gain, .. } = *test;
     if candidate.kind != EffectKind::CoulombFriction {
         return None;
     }
@@ -51,26 +50,11 @@ pub(super) fn static_peak(candidate: &mut Candidate, trial: &Trial, test: &FormT
         if torque > 0.0 { 0.5 * torque } else { 0.01 * peak_range.1 }.clamp(peak_range.0, peak_range.1);
     // The reference (which lacks the friction) with the friction and its peak added, every
     // other value the candidate's fit, in the candidate's ranges and the peak's.
-    let with_peak = |velocity: f64| -> Option<Model> {
-        let mut model = reference.clone();
-        model
-            .add_effect(search.friction_with(
-                torque,
-                peak_start,
-                velocity.clamp(velocity_range.0, velocity_range.1),
-            ))
-            .ok()?;
-        for name in fitted.parameter_names() {
-            model.set(&name, fitted.value(&name).ok()?).ok()?;
-        }
-        for (name, bounds) in trial
-            .bounds
-            .iter()
-            .chain([&(peak_name.clone(), peak_range), &(velocity_name.clone(), velocity_range)])
-        {
-            model.set_bounds(name, *bounds).ok()?;
-        }
-        Some(model)
+    let peak_bounds = [(peak_name.clone(), peak_range), (velocity_name.clone(), velocity_range)];
+    let with_peak = |velocity: f64| {
+        let friction =
+            search.friction_with(torque, peak_start, velocity.clamp(velocity_range.0, velocity_range.1));
+        test.reference_with(friction, fitted, trial.bounds.iter().chain(&peak_bounds))
     };
     let named: Vec<String> = free.iter().chain(&trial.freed).cloned().collect();
     let (as_named, best) = test.refit_pair(

@@ -8,7 +8,7 @@ use super::catalog::Trial;
 use super::{Candidate, Rival, Verdict, mismatch, run};
 use mem::Measurement;
 use models::FitOutcome;
-use models::Model;
+use models::{Model, ModelEffect};
 use plant::EffectKind;
 use rayon::prelude::*;
 
@@ -157,6 +157,26 @@ pub(super) struct FormTest<'a> {
 }
 
 impl FormTest<'_> {
+    /// The reference (which lacks the named effect) with `effect` added in its place, every
+    /// value `fitted` (the candidate's model) has set on it, then `bounds`. `None` if the effect
+    /// cannot be added or a value set.
+    pub fn reference_with<'b>(
+        &self,
+        effect: ModelEffect,
+        fitted: &Model,
+        bounds: impl IntoIterator<Item = &'b (String, (f64, f64))>,
+    ) -> Option<Model> {
+        let mut model = self.reference.clone();
+        model.add_effect(effect).ok()?;
+        for name in fitted.parameter_names() {
+            model.set(&name, fitted.value(&name).ok()?).ok()?;
+        }
+        for (name, range) in bounds {
+            model.set_bounds(name, *range).ok()?;
+        }
+        Some(model)
+    }
+
     /// The refits a test of a named effect's form compares, each to the fitter's own
     /// convergence: `fitted` (the candidate's model) as it is, with `named` free; and the
     /// richer form `with(start)` with `extra` freed beside them, from each of `starts` (the

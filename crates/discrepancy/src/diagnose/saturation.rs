@@ -27,7 +27,6 @@ use super::catalog::Trial;
 use super::named::{FormTest, parameter_of};
 use super::{Candidate, mismatch, run};
 
-use models::Model;
 use plant::EffectKind;
 
 /// The knee at and beyond which a limiter is taken for a clamp: x/(1 + |x/L|ⁿ)^{1/n} is within
@@ -39,7 +38,7 @@ pub(super) const CLAMP_KNEE: f64 = 50.0;
 /// candidate's model, refit and parameters become those with it. `None` for any other
 /// candidate, a limiter that already has a knee, or when a refit fails.
 pub(super) fn knee(candidate: &mut Candidate, trial: &Trial, test: &FormTest) -> Option<SaturationKnee> {
-    let FormTest { reference, free, threshold, gain, .. } = *test;
+    let FormTest { free, threshold, gain, .. } = *test;
     if !matches!(candidate.kind, EffectKind::AmplifierSaturation | EffectKind::VoltageSaturation) {
         return None;
     }
@@ -51,21 +50,11 @@ pub(super) fn knee(candidate: &mut Candidate, trial: &Trial, test: &FormTest) ->
     // The reference (which lacks the saturation) with the limiter and its knee added, every
     // other value the candidate's fit, in the candidate's ranges, the limit's wider one beside a
     // knee, and the knee's.
-    let with_knee = |knee: f64| -> Option<Model> {
-        let mut model = reference.clone();
-        model.add_effect(search.limiter_with(limit, knee.clamp(knee_range.0, knee_range.1))).ok()?;
-        for name in fitted.parameter_names() {
-            model.set(&name, fitted.value(&name).ok()?).ok()?;
-        }
-        for (name, bounds) in trial
-            .bounds
-            .iter()
-            .filter(|(name, _)| *name != limit_name)
-            .chain([&(limit_name.clone(), limit_range), &(knee_name.clone(), knee_range)])
-        {
-            model.set_bounds(name, *bounds).ok()?;
-        }
-        Some(model)
+    let knee_bounds = [(limit_name.clone(), limit_range), (knee_name.clone(), knee_range)];
+    let with_knee = |knee: f64| {
+        let limiter = search.limiter_with(limit, knee.clamp(knee_range.0, knee_range.1));
+        let bounds = trial.bounds.iter().filter(|(name, _)| *name != limit_name).chain(&knee_bounds);
+        test.reference_with(limiter, fitted, bounds)
     };
     let named: Vec<String> = free.iter().chain(&trial.freed).cloned().collect();
     let (as_named, best) =
