@@ -199,6 +199,49 @@ fn a_dash_means_standard_output() {
     assert!(!dir.join("-").exists(), "a file named `-` was written");
 }
 
+/// An output that reads zero throughout (a disconnected gauge) is warned about, and the residual
+/// structure gives no ratio to its RMS (null, and said in words) — never an infinite percentage
+/// (found by the mutation fuzz: "inf % of the output's RMS").
+#[test]
+fn an_output_that_reads_zero_gives_no_ratio_to_its_rms() {
+    let dir = scratch("zero-output");
+    std::fs::copy(fixture("slewing.ron"), dir.join("m.ron")).unwrap();
+    let text = std::fs::read_to_string(fixture("slewing_measured.csv")).unwrap();
+    let mut lines = text.lines();
+    let mut zeroed = vec![lines.next().unwrap().to_string()];
+    zeroed.extend(lines.map(|l| {
+        let mut cells: Vec<&str> = l.split(',').collect();
+        cells[3] = "0.0";
+        cells.join(",")
+    }));
+    std::fs::write(dir.join("d.csv"), zeroed.join("\n") + "\n").unwrap();
+    let out = memid_in(
+        &dir,
+        &[
+            "diagnose",
+            "--model",
+            "m.ron",
+            "--data",
+            "d.csv",
+            "--free",
+            "cv,kp",
+            "--decimate",
+            "10",
+            "--only",
+            "output_offset",
+            "--json",
+            "-",
+        ],
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(!stdout.contains("inf %") && !stdout.contains("NaN"), "{stdout}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let strain =
+        v["residual"]["outputs"].as_array().unwrap().iter().find(|o| o["output"] == "strain").unwrap();
+    assert!(strain["relative_rms"].is_null(), "{strain}");
+}
+
 #[test]
 fn extreme_values_end_in_one_line_errors() {
     let dir = scratch("extreme");

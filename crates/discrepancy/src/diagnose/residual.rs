@@ -30,8 +30,9 @@ pub struct OutputResidual {
     pub whiteness_p: f64,
     /// Structured (p < 0.01) or white.
     pub structured: bool,
-    /// RMS of the residual over the RMS of the measured output.
-    pub relative_rms: f64,
+    /// RMS of the residual over the RMS of the measured output; `None` when the output reads
+    /// zero throughout (nothing to compare with).
+    pub relative_rms: Option<f64>,
     /// The octave band holding most of the residual's power.
     pub band: Band,
     /// The window (start, end \[s\]) holding most of it, and its share.
@@ -72,7 +73,7 @@ impl ResidualStructure {
                     output: e.data.names()[o].clone(),
                     whiteness_p,
                     structured: whiteness_p < 0.01,
-                    relative_rms: rms(&r) / rms(&y).max(f64::MIN_POSITIVE),
+                    relative_rms: Some(rms(&y)).filter(|&y| y > 0.0).map(|y| rms(&r) / y),
                     band: dominant_band(&r, h),
                     window,
                 }
@@ -93,12 +94,15 @@ impl ResidualStructure {
             .iter()
             .filter(|o| o.structured)
             .map(|o| {
+                let size = match o.relative_rms {
+                    Some(relative) => format!("{:.2} % of the output's RMS", 100.0 * relative),
+                    None => "on an output that reads zero throughout".into(),
+                };
                 format!(
-                    "`{}`: structured residual (Ljung–Box p = {:.1e}), {:.2} % of the output's RMS, {:.0} % of its power \
+                    "`{}`: structured residual (Ljung–Box p = {:.1e}), {size}, {:.0} % of its power \
                      in {:.2}–{:.2} Hz, most of it in {:.1}–{:.1} s",
                     o.output,
                     o.whiteness_p,
-                    100.0 * o.relative_rms,
                     100.0 * o.band.share,
                     o.band.low_hz,
                     o.band.high_hz,
