@@ -158,14 +158,10 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
 ///
 /// (The limiter with any other knee is [`smooth_limit_with_knee`].)
 pub fn smooth_limit<D: Scalar>(current: D, limit: D) -> D {
-    // (1 + r⁸)^{−1/8} by three square roots: the same value, far cheaper than a power.
-    let root = |r: D| DualNum::sqrt(&DualNum::sqrt(&DualNum::sqrt(&(D::from(1.0) + DualNum::powi(&r, 8)))));
-    if current.re().abs() <= limit.re().abs() {
-        current / root(current / limit)
-    } else {
-        let sign = if (current.re() < 0.0) == (limit.re() < 0.0) { 1.0 } else { -1.0 };
-        limit * D::from(sign) / root(limit / current)
-    }
+    // (1 + r⁸)^{1/8} by three square roots: the same value, far cheaper than a power.
+    two_sided(current, limit, |r: D| {
+        DualNum::sqrt(&DualNum::sqrt(&DualNum::sqrt(&(D::from(1.0) + DualNum::powi(&r, 8)))))
+    })
 }
 
 /// The smooth limiter with knee n: x / (1 + |x/L|ⁿ)^{1/n} (n = 8 is [`smooth_limit`]).
@@ -174,23 +170,26 @@ pub fn smooth_limit<D: Scalar>(current: D, limit: D) -> D {
 /// it is evaluated as sign(x)·L / (1 + |L/x|ⁿ)^{1/n}, the same function with nothing that
 /// overflows.
 pub fn smooth_limit_with_knee<D: Scalar>(value: D, limit: D, knee: D) -> D {
-    // (1 + rⁿ)^{−1/n} for 0 < r ≤ 1.
-    // rⁿ below e^{−700} (10⁻³⁰⁴) changes nothing a double holds: 1, with no derivative (r may
-    // have underflowed, and 0·ln 0 is no number).
-    let shrink = |r: D| {
-        let log_power = knee * DualNum::ln(&r);
+    // (1 + |r|ⁿ)^{1/n}. |r|ⁿ below e^{−700} (10⁻³⁰⁴) changes nothing a double holds: 1, with no
+    // derivative (r may be 0 — at rest — or have underflowed, and 0·ln 0 is no number).
+    two_sided(value, limit, |r: D| {
+        let log_power = knee * DualNum::ln(&abs(r));
         if log_power.re() < -700.0 {
             return D::from(1.0);
         }
-        DualNum::exp(&(-DualNum::ln(&(D::from(1.0) + DualNum::exp(&log_power))) / knee))
-    };
-    if value.re() == 0.0 {
-        value
-    } else if value.re().abs() <= limit.re().abs() {
-        value * shrink(abs(value / limit))
+        DualNum::exp(&(DualNum::ln(&(D::from(1.0) + DualNum::exp(&log_power))) / knee))
+    })
+}
+
+/// A limiter x/ρ(x/L) with ρ(r) = (1 + |r|ⁿ)^{1/n} (`root`, called with |r| ≤ 1 only):
+/// x/ρ(x/L) within the limit and sign(x)·L/ρ(L/x) beyond it — the same function, with no
+/// power of a ratio above 1 that could overflow.
+fn two_sided<D: Scalar>(value: D, limit: D, root: impl Fn(D) -> D) -> D {
+    if value.re().abs() <= limit.re().abs() {
+        value / root(value / limit)
     } else {
         let sign = if (value.re() < 0.0) == (limit.re() < 0.0) { 1.0 } else { -1.0 };
-        limit * D::from(sign) * shrink(abs(limit / value))
+        limit * D::from(sign) / root(limit / value)
     }
 }
 

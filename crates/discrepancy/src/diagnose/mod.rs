@@ -46,9 +46,9 @@
 //! level. The name does not change.
 //!
 //! A named saturation on the slewing rig is likewise refitted with the knee n of its limiter
-//! x/(1 + |x/L|ⁿ)^{1/n} free (the catalog's is n = 8, near a clamp; n = 2 a soft limit): where
-//! n and L are determined and the knee gains at least the threshold in sample, the named
-//! saturation carries it ([`SaturationKnee`], module `saturation`). The name does not change.
+//! x/(1 + |x/L|ⁿ)^{1/n} free (the catalog's is n = 8; n = 2 a soft limit, n → ∞ a clamp):
+//! where L is determined, n is determined or at least 50 (a clamp), and the knee gains at least
+//! the threshold in sample, the named saturation carries it ([`SaturationKnee`], module `saturation`). The name does not change.
 //!
 //! Sensor quantization is a measurement model, not a force: it is named when the raw readings
 //! of a sensor lie on a lattice while the signal moves, with a step comparable to the noise or

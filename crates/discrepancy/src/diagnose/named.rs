@@ -139,9 +139,9 @@ pub(super) fn polish(candidate: &mut Candidate, trial: &Trial, free: &[String], 
 }
 
 /// What a test of a named effect's form refits against (the spring's form, module `spring`;
-/// the friction's static peak, module `friction`): the reference's fitted model and free
-/// parameters, the record, the held-out threshold, and the gain of a refit over the reference
-/// (nats, the likelihood every candidate is scored by).
+/// the friction's static peak, module `friction`; the saturation's knee, module `saturation`):
+/// the reference's fitted model and free parameters, the record, the held-out threshold, and the
+/// gain of a refit over the reference (nats, the likelihood every candidate is scored by).
 #[derive(Clone, Copy)]
 pub(super) struct FormTest<'a> {
     /// The reference's fitted model (which lacks the named effect).

@@ -324,10 +324,7 @@ impl StaticPeak {
     fn sentence(&self) -> String {
         // The slewing rig's hub friction (the only one tested): a torque against a rate.
         let (force, rate) = (" N·m", " rad/s");
-        let with_se = |p: &EffectParameter| match p.std_error {
-            Some(se) => format!("{:.3e} ± {se:.1e}", p.value),
-            None => format!("{:.3e} (not determined)", p.value),
-        };
+        let with_se = |p: &EffectParameter| with_se(p, format!("{:.3e}", p.value));
         if self.demanded {
             format!(
                 "the friction has a static peak: it breaks away at F_c + ΔF = {:.3e}{force} and slides at F_c = \
@@ -355,11 +352,8 @@ impl StaticPeak {
 impl SaturationKnee {
     /// The limiter's form in words: the knee the data demand, or how far it got.
     fn sentence(&self) -> String {
-        let with_se = |p: &EffectParameter| match p.std_error {
-            Some(se) => format!("{:.3} ± {se:.1e}", p.value),
-            None => format!("{:.3} (not determined)", p.value),
-        };
-        let unit = if self.limit.name.starts_with("current") { " A" } else { " V" };
+        let with_se = |p: &EffectParameter| with_se(p, format!("{:.3}", p.value));
+        let unit = if self.limit.name == plant::ParamId::CurrentLimit.name() { " A" } else { " V" };
         if self.demanded && self.clamp {
             format!(
                 "the limit is a clamp: the limiter's knee comes out at n = {:.0} (50 or more is within 1.4 % of a clamp; \
@@ -388,5 +382,14 @@ impl SaturationKnee {
                 self.gain
             )
         }
+    }
+}
+
+/// A form parameter's value (as `value` writes it) with its standard error, or "(not
+/// determined)".
+fn with_se(p: &EffectParameter, value: String) -> String {
+    match p.std_error {
+        Some(se) => format!("{value} ± {se:.1e}"),
+        None => format!("{value} (not determined)"),
     }
 }
