@@ -205,7 +205,8 @@ pub enum Verdict {
     /// Fitted on half the record, it does not predict the other half better by the threshold.
     NotPredictive,
     /// It predicts better, but leaves the reference residual's predictable structure nearly as
-    /// it was (it removes less than [`super::MIN_STRUCTURE_EXPLAINED`] of it, an unmodeled mode
+    /// it was (it removes less than [`super::min_structure_explained`] of its kind: a tenth, a
+    /// cubic stiffness less than [`super::MIN_SPRING_STRUCTURE_EXPLAINED`], an unmodeled mode
     /// less than [`super::MIN_MODE_STRUCTURE_EXPLAINED`]): it shaves a misfit rather than
     /// explaining it.
     Superficial,

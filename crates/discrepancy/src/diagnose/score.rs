@@ -7,13 +7,12 @@ use super::catalog::Trial;
 use super::evidence::{self, NoiseModel};
 use super::run::{self, Fitted, Folds};
 use super::{
-    Candidate, DiagnoseOptions, Evidence, MIN_MODE_STRUCTURE_EXPLAINED, MIN_SENSOR_STRUCTURE_EXPLAINED,
-    MIN_STRUCTURE, MIN_STRUCTURE_EXPLAINED, Observe, Verdict, failed, schedule,
+    Candidate, DiagnoseOptions, Evidence, MIN_SENSOR_STRUCTURE_EXPLAINED, MIN_STRUCTURE, Observe, Verdict,
+    failed, min_structure_explained, schedule,
 };
 use crate::WorkflowError;
 use mem::Measurement;
 use models::{FitOutcome, Model};
-use plant::EffectKind;
 
 /// Per-sample held-out log-likelihoods of one refit, or why it failed.
 type Scored = Result<Vec<f64>, WorkflowError>;
@@ -191,10 +190,7 @@ impl Scoring<'_> {
                 c.verdict = match c.evidence.held_out {
                     None => Verdict::Failed("a held-out refit failed".into()),
                     Some(h) if h < options.threshold => Verdict::NotPredictive,
-                    _ if c.evidence.structure_explained < MIN_STRUCTURE_EXPLAINED => Verdict::Superficial,
-                    _ if c.kind == EffectKind::UnmodeledMode
-                        && c.evidence.structure_explained < MIN_MODE_STRUCTURE_EXPLAINED =>
-                    {
+                    _ if c.evidence.structure_explained < min_structure_explained(c.kind) => {
                         Verdict::Superficial
                     }
                     _ if c
