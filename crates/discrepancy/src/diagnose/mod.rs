@@ -143,7 +143,7 @@ pub const MIN_MODE_STRUCTURE_EXPLAINED: f64 = 0.5;
 /// is missing, the cubic leaves little of it (true hardening and softening springs removed
 /// 0.94–1.00 on the slewing study's development set and held-out draws, 0.88–1.00 on the
 /// structure study's; soft voltage limits answered as a softening spring 0.44–1.00). A "spring"
-/// that leaves more than two thirds is fitted to the leading-order stiffness change of
+/// that leaves more than 70 % of it is fitted to the leading-order stiffness change of
 /// something that is not a function of the coordinate alone, or not a smooth one (a cogging
 /// torque, periodic in the hub angle, answered a softening spring on four seen held-out draws,
 /// removed 0.12–0.23).
