@@ -239,7 +239,7 @@ fn a_cogging_torque_is_not_named_a_spring() {
     let d = decimated_fixture_from("slewing_cogging_48", |t| t);
     assert_ne!(d.effect(), "cubic_stiffness", "{:?}", d.answer());
     let spring = d.candidates.iter().find(|c| c.label == "cubic_stiffness").expect("the spring was tried");
-    assert!(spring.evidence.held_out.is_some_and(|h| h > 10.0), "it predicts: {:?}", spring.evidence);
+    assert!(spring.evidence.held_out.is_some_and(|h| h >= d.threshold), "it predicts: {:?}", spring.evidence);
     assert_eq!(spring.verdict, discrepancy::Verdict::Superficial, "{:?}", d.answer());
 }
 

@@ -63,17 +63,13 @@ pub(super) fn knee(candidate: &mut Candidate, trial: &Trial, test: &FormTest) ->
     // A knee of CLAMP_KNEE or more is a clamp: the data ask for a limiter at least that sharp,
     // and sharper ones are barely told apart (the knee's standard error grows without bound
     // towards the clamp, where it may also stop short of its range's end).
-    let clamp = parameter_of(&best, &knee_name)?.value >= CLAMP_KNEE;
+    let knee = parameter_of(&best, &knee_name)?;
+    let clamp = knee.value >= CLAMP_KNEE;
     let demanded = added >= threshold
         && mismatch::determined(&best, &limit_name)
         && (clamp || mismatch::determined(&best, &knee_name));
-    let result = SaturationKnee {
-        knee: parameter_of(&best, &knee_name)?,
-        limit: parameter_of(&best, &limit_name)?,
-        gain: added,
-        clamp,
-        demanded,
-    };
+    let result =
+        SaturationKnee { knee, limit: parameter_of(&best, &limit_name)?, gain: added, clamp, demanded };
     if demanded {
         let mut wider = trial.clone();
         wider.freed.push(knee_name);
