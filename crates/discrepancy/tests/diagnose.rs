@@ -243,6 +243,47 @@ fn a_cogging_torque_is_not_named_a_spring() {
     assert_eq!(spring.verdict, discrepancy::Verdict::Superficial, "{:?}", d.answer());
 }
 
+/// Two effects that act alike, from the study's independent truth plant
+/// (`fixtures/independent/slewing_hub_torques.py`): a softening spring at the hub (+0.06 θ³) and
+/// the armature current clamped at 98 % or at 95 % of the demand at θ(0) = 0.5 rad. Both take
+/// torque from the servo at large angles, so each stands in for part of the other. Run after
+/// run, each run refitting the model the one before wrote, the diagnosis names one of the two
+/// first, never anything else, and every named effect shrinks the gap; the chain ends in
+/// `none` within three runs. (Measured: the spring is named first at 98 %, the clamp at 95 %,
+/// and behind it the other is not resolved — docs/diagnose.md, "Two effects that act alike".)
+#[test]
+fn a_spring_and_a_clamp_that_act_alike_are_named_one_at_a_time() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures");
+    let text = std::fs::read_to_string(format!("{root}/slewing.ron")).unwrap();
+    let mut options = options();
+    options.decimate = Some(10);
+    let alike = ["cubic_stiffness", "amplifier_saturation", "voltage_saturation"];
+    for name in ["slewing_spring_and_clamp_98", "slewing_spring_and_clamp_95"] {
+        let data = mem::Measurement::read_csv(std::path::Path::new(&format!(
+            "{root}/independent/effects/{name}.csv"
+        )))
+        .unwrap();
+        let mut model = Model::from_ron(&text, "slewing.ron").unwrap();
+        let mut named = Vec::new();
+        for run in 1..=3 {
+            let d = diagnose(&model, &data, &options).unwrap();
+            let effect = d.effect().to_string();
+            if effect == "none" {
+                break;
+            }
+            assert!(
+                alike.contains(&effect.as_str()),
+                "{name}, run {run}: {effect} ({named:?}): {:?}",
+                d.answer()
+            );
+            assert!(d.augmented_error() < d.baseline_error(), "{name}, run {run}: the gap must shrink");
+            named.push(effect);
+            model = d.augmented().clone();
+        }
+        assert!(!named.is_empty() && named.len() < 3, "{name}: one or two named, then `none`: {named:?}");
+    }
+}
+
 /// Gravity on a tilted rig (−22 mN·m · sin θ at the hub, outside the catalog) from the study's
 /// independent truth plant (`fixtures/independent/slewing_hub_torques.py`), released from 0.7 rad.
 /// A strain-gauge scale predicts the held-out blocks best, but it leaves more than half of the
