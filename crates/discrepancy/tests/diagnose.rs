@@ -284,6 +284,27 @@ fn a_spring_and_a_clamp_that_act_alike_are_named_one_at_a_time() {
     }
 }
 
+/// A sensor warming up, from the study's independent truth plant
+/// (`fixtures/independent/slewing_warmup.py`), about 8 noise σ each, read at 12.8 Hz. The strain
+/// gauge's reading drifts by −0.5 · (1 − e^{−t/12 s}): it levels off over the 30 s record, and it
+/// is named `sensor_drift(strain), levelling off` with its time constant within a fifth. The
+/// potentiometer's drifts by 7.5 mrad · (1 − e^{−t/5 s}), levelling off within the record's first
+/// third: the form's time constant is looked for from a third of the record on
+/// (`drift_time_range`), so it is not a drift that levels off — it is answered an offset, a
+/// drift at a constant rate or `none`, nothing else.
+#[test]
+fn a_sensor_warming_up_over_the_record_is_named_a_drift_that_levels_off() {
+    let gauge = decimated_fixture("slewing_gauge_warmup");
+    let named = gauge.named().unwrap_or_else(|| panic!("{:?}", gauge.answer()));
+    assert_eq!(named.label, "sensor_drift(strain), levelling off", "{:?}", gauge.answer());
+    let tau = named.parameters.iter().find(|p| p.name == "drift_time_strain").expect("its time constant");
+    assert!((tau.value / 12.0 - 1.0).abs() < 0.2, "τ = {} s against 12 s", tau.value);
+    let pot =
+        decimated_fixture_from("slewing_pot_warmup", |t| t.replace("hub_angle: 0.5,", "hub_angle: 0.6,"));
+    let label = pot.named().map_or("none", |c| c.label.as_str());
+    assert!(["output_offset(theta)", "sensor_drift(theta)", "none"].contains(&label), "{:?}", pot.answer());
+}
+
 /// Gravity on a tilted rig (−22 mN·m · sin θ at the hub, outside the catalog) from the study's
 /// independent truth plant (`fixtures/independent/slewing_hub_torques.py`), released from 0.7 rad.
 /// A strain-gauge scale predicts the held-out blocks best, but it leaves more than half of the

@@ -1,8 +1,10 @@
 //! Measurement-side effects on any model: a sensor's offset b, scale error s and drift d act
 //! on its reading as y′ = (1 + s)·y + b + d·t (t from the model's t = 0), after the dynamics.
 //! Their sensitivities are exact and trivial — ∂y′/∂b = 1, ∂y′/∂s = y, ∂y′/∂d = t — and the
-//! dynamics' sensitivities are scaled by (1 + s). Quantization, the fourth sensor effect, is a
-//! reading model (`mem::Experiment::with_quantization`), not a transform.
+//! dynamics' sensitivities are scaled by (1 + s). A drift that levels off with time constant τ
+//! adds d·τ(1 − e^{−t/τ}) instead: ∂/∂d = τ(1 − e^{−t/τ}), ∂/∂τ = d[(1 − e^{−t/τ}) − (t/τ)e^{−t/τ}].
+//! Quantization, the fourth sensor effect, is a reading model
+//! (`mem::Experiment::with_quantization`), not a transform.
 
 use expm::Response;
 use mem::{BoxedError, Grid, ResponseModel};
@@ -43,6 +45,36 @@ pub struct SensorEffect {
     pub value: f64,
     /// Its position in the parameter vector P, if fitted.
     pub free: Option<usize>,
+    /// A drift's time constant τ, when it levels off: its value, its name and its position in
+    /// P, if fitted.
+    pub time_constant: Option<TimeConstant>,
+}
+
+/// The time constant τ \[s\] a drift levels off with (y + d·τ(1 − e^{−t/τ})).
+#[derive(Clone, Debug)]
+pub struct TimeConstant {
+    /// The parameter's name (`drift_time_<output>`).
+    pub name: String,
+    /// Its value (used when not free).
+    pub value: f64,
+    /// Its position in the parameter vector P, if fitted.
+    pub free: Option<usize>,
+}
+
+impl SensorEffect {
+    /// The term's added reading at `time` and its derivatives by the effect's value and by the
+    /// time constant (for a drift that levels off), given the values `v` and `tau`.
+    fn added(&self, v: f64, tau: Option<f64>, time: f64) -> (f64, f64, f64) {
+        match (self.term, tau) {
+            (SensorTerm::Offset, _) => (v, 1.0, 0.0),
+            (_, Some(tau)) => {
+                let decay = (-time / tau).exp();
+                let shape = tau * (1.0 - decay);
+                (v * shape, shape, v * ((1.0 - decay) - time / tau * decay))
+            }
+            _ => (v * time, time, 0.0),
+        }
+    }
 }
 
 /// A response model with sensor effects on its outputs.
@@ -62,7 +94,9 @@ impl WithSensors {
         effects: Vec<SensorEffect>,
         physics: Vec<usize>,
     ) -> Self {
-        let n_params = physics.len() + effects.iter().filter(|e| e.free.is_some()).count();
+        let n_params = physics.len()
+            + effects.iter().filter(|e| e.free.is_some()).count()
+            + effects.iter().filter(|e| e.time_constant.as_ref().is_some_and(|t| t.free.is_some())).count();
         Self { inner, effects, physics, n_params }
     }
 }
@@ -137,15 +171,19 @@ impl WithSensors {
         }
         for e in self.effects.iter().filter(|e| e.term != SensorTerm::Scale) {
             let v = value(e);
+            let tau = e.time_constant.as_ref().map(|c| c.free.map_or(c.value, |i| p[i]));
+            let tau_free = e.time_constant.as_ref().and_then(|c| c.free);
             for t in 0..k {
                 let time = grid.start + t as f64 * grid.interval;
-                let (add, slope) = match e.term {
-                    SensorTerm::Offset => (v, 1.0),
-                    _ => (v * time, time),
-                };
+                let (add, slope, by_tau) = e.added(v, tau, time);
                 out.outputs[(t, e.output)] += add;
-                if sensitivities && let Some(i) = e.free {
-                    out.sensitivities[(t * n_out + e.output, i)] = slope;
+                if sensitivities {
+                    if let Some(i) = e.free {
+                        out.sensitivities[(t * n_out + e.output, i)] = slope;
+                    }
+                    if let Some(i) = tau_free {
+                        out.sensitivities[(t * n_out + e.output, i)] = by_tau;
+                    }
                 }
             }
         }

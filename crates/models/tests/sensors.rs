@@ -63,3 +63,59 @@ fn sensor_parameters_in_any_position_follow_the_callers_order() {
         }
     }
 }
+
+/// A drift that levels off, y + d·τ(1 − e^{−t/τ}), against its closed form on the bare model's
+/// outputs, and its two sensitivities (d and τ, freed beside C_v) against central differences.
+#[test]
+fn a_drift_that_levels_off_is_its_closed_form_with_exact_sensitivities() {
+    let (d, tau) = (2e-3, 4.0);
+    let text = plant::PAPER_MODEL_RON.replace(
+        "    bounds: {",
+        &format!(
+            "    effects: [SensorDrift(sensor: Potentiometer, rate: {d:e}, time_constant: Some({tau:e}))],\n    bounds: {{"
+        ),
+    );
+    let model = Model::Slewing(SlewingModel::from_ron(&text, "drift.ron").unwrap());
+    let names = ["cv", "drift_theta", "drift_time_theta"];
+    let p = [model.value("cv").unwrap(), d, tau];
+    let (k, h) = (400, 1.0 / 12.8);
+    let run = |q: &[f64]| {
+        let mut out = Response::zeros(k, 3, names.len());
+        model.response(&names).unwrap().respond(q, &Grid::free(h), &mut out).unwrap();
+        out
+    };
+    let with = run(&p);
+    let bare = Model::Slewing(SlewingModel::paper());
+    let mut without = Response::zeros(k, 3, 0);
+    bare.response(&[]).unwrap().respond(&[], &Grid::free(h), &mut without).unwrap();
+    for s in 0..k {
+        let t = s as f64 * h;
+        let drift = d * tau * (1.0 - (-t / tau).exp());
+        assert!((with.outputs[(s, 0)] - (without.outputs[(s, 0)] + drift)).abs() < 1e-12, "sample {s}");
+        for o in 1..3 {
+            assert_eq!(with.outputs[(s, o)], without.outputs[(s, o)], "sample {s}, output {o}");
+        }
+    }
+    for i in 0..names.len() {
+        let step = 1e-6 * p[i].abs();
+        let shifted = |sign: f64| {
+            let mut q = p;
+            q[i] += sign * step;
+            run(&q)
+        };
+        let (plus, minus) = (shifted(1.0), shifted(-1.0));
+        let scale = (0..3 * k).map(|r| with.sensitivities[(r, i)].abs()).fold(0.0, f64::max);
+        assert!(scale > 0.0, "{} has a sensitivity", names[i]);
+        for s in 0..k {
+            for o in 0..3 {
+                let fd = (plus.outputs[(s, o)] - minus.outputs[(s, o)]) / (2.0 * step);
+                let exact = with.sensitivities[(s * 3 + o, i)];
+                assert!(
+                    (fd - exact).abs() <= 1e-6 * scale,
+                    "{} sample {s} output {o}: {fd} vs {exact}",
+                    names[i]
+                );
+            }
+        }
+    }
+}

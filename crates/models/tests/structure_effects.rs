@@ -300,20 +300,47 @@ fn an_unmodeled_mode_adds_its_closed_form() {
     }
 }
 
+/// The building's free decay with `effects` (sensor terms) and without, 200 samples at `h`.
+fn sensed_and_bare(effects: &str) -> (Response, Response, f64) {
+    let plain = Model::from_ron(FILE, "building.ron").unwrap();
+    let (k, h) = (200, 0.005);
+    let with = respond(with_effects(effects).response(&[]).unwrap().as_ref(), &[], k, h);
+    let without = respond(plain.response(&[]).unwrap().as_ref(), &[], k, h);
+    (with, without, h)
+}
+
 #[test]
 fn sensor_terms_act_on_structure_outputs() {
-    let model = with_effects(
+    let (with, without, h) = sensed_and_bare(
         "OutputOffset(output: \"q1\", offset: 1e-3), SensorScale(output: \"q3\", scale: 0.05), \
          SensorDrift(output: \"q3\", rate: -2e-4)",
     );
-    let plain = Model::from_ron(FILE, "building.ron").unwrap();
-    let (k, h) = (200, 0.005);
-    let with = respond(model.response(&[]).unwrap().as_ref(), &[], k, h);
-    let without = respond(plain.response(&[]).unwrap().as_ref(), &[], k, h);
-    for s in 0..k {
+    for s in 0..with.outputs.nrows() {
         let t = s as f64 * h;
         assert!((with.outputs[(s, 0)] - (without.outputs[(s, 0)] + 1e-3)).abs() < 1e-12);
         assert!((with.outputs[(s, 1)] - (1.05 * without.outputs[(s, 1)] - 2e-4 * t)).abs() < 1e-12);
+    }
+}
+
+/// A structure's drift that levels off: its closed form on the output, and its time constant
+/// freed by name (`drift_time_q3`) with a sensitivity that is the central difference.
+#[test]
+fn a_drift_that_levels_off_acts_on_a_structure_output() {
+    let (d, tau) = (-2e-4, 0.3);
+    let effect = format!("SensorDrift(output: \"q3\", rate: {d:e}, time_constant: Some({tau}))");
+    let (with, without, h) = sensed_and_bare(&effect);
+    let k = with.outputs.nrows();
+    for s in 0..k {
+        let t = s as f64 * h;
+        assert_eq!(with.outputs[(s, 0)], without.outputs[(s, 0)]);
+        let expected = without.outputs[(s, 1)] + d * tau * (1.0 - (-t / tau).exp());
+        assert!((with.outputs[(s, 1)] - expected).abs() < 1e-12, "sample {s}");
+    }
+    let response = with_effects(&effect).response(&["drift_q3", "drift_time_q3"]).unwrap();
+    let p = [d, tau];
+    let out = respond(response.as_ref(), &p, k, h);
+    for i in 0..2 {
+        assert_central_differences(response.as_ref(), &p, &out, i, h, 1e-6);
     }
 }
 

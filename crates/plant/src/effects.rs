@@ -18,7 +18,7 @@
 //! | `SensorQuantization` | — (measurement only) | y ← Δ·round(y/Δ) on one sensor |
 //! | `OutputOffset` | `offset_<output>` | y ← y + b on one sensor |
 //! | `SensorScale` | `scale_<output>` | y ← (1 + s)·y on one sensor (a calibration error) |
-//! | `SensorDrift` | `drift_<output>` \[unit/s\] | y ← y + d·t on one sensor (a slow drift) |
+//! | `SensorDrift` | `drift_<output>` \[unit/s\], optional `drift_time_<output>` τ \[s\] | y ← y + d·t on one sensor (a slow drift); with τ, y ← y + d·τ(1 − e^{−t/τ}): a drift at rate d that levels off at d·τ (a sensor warming up) |
 
 use crate::sensors::Sensor;
 use serde::{Deserialize, Serialize};
@@ -224,8 +224,13 @@ pub enum Effect<D = f64> {
     SensorDrift {
         /// Which sensor.
         sensor: Sensor,
-        /// d: the reading is y + d·t, in the output's unit per second.
+        /// d: the reading is y + d·t, in the output's unit per second (its rate at t = 0 when
+        /// it levels off).
         rate: D,
+        /// τ \[s\] (`drift_time_<output>`, absent: none): the drift levels off, the reading is
+        /// y + d·τ(1 − e^{−t/τ}) — a sensor or its amplifier warming up — and d·t as τ → ∞.
+        #[serde(default)]
+        time_constant: Option<D>,
     },
     /// A delay in the position feedback.
     TimeDelay {
@@ -346,7 +351,11 @@ impl<D> Effect<D> {
                 Effect::OutputOffset { sensor: *sensor, offset: f(offset) }
             }
             Effect::SensorScale { sensor, scale } => Effect::SensorScale { sensor: *sensor, scale: f(scale) },
-            Effect::SensorDrift { sensor, rate } => Effect::SensorDrift { sensor: *sensor, rate: f(rate) },
+            Effect::SensorDrift { sensor, rate, time_constant } => Effect::SensorDrift {
+                sensor: *sensor,
+                rate: f(rate),
+                time_constant: time_constant.as_ref().map(&f),
+            },
             Effect::TimeDelay { delay } => Effect::TimeDelay { delay: f(delay) },
             Effect::UnmodeledMode {
                 frequency_hz,

@@ -85,6 +85,8 @@ pub enum ParamId {
     Scale(Sensor),
     /// `drift_<output>` of `SensorDrift`.
     Drift(Sensor),
+    /// `drift_time_<output>` of `SensorDrift` (when given): the time constant it levels off with.
+    DriftTime(Sensor),
     /// `voltage_limit` of `VoltageSaturation`.
     VoltageLimit,
     /// `drag_exponent` of `QuadraticDrag` (when given).
@@ -174,6 +176,7 @@ impl ParamId {
             ParamId::Offset(s) => format!("offset_{}", s.output_name()),
             ParamId::Scale(s) => format!("scale_{}", s.output_name()),
             ParamId::Drift(s) => format!("drift_{}", s.output_name()),
+            ParamId::DriftTime(s) => format!("drift_time_{}", s.output_name()),
             other => CORE
                 .iter()
                 .chain(EFFECT_PARAMS.iter())
@@ -191,6 +194,7 @@ impl ParamId {
             ParamId::Offset(_) => "effects.offset".into(),
             ParamId::Scale(_) => "effects.scale".into(),
             ParamId::Drift(_) => "effects.rate".into(),
+            ParamId::DriftTime(_) => "effects.time_constant".into(),
             other => CORE
                 .iter()
                 .map(|(_, id, path)| (*id, (*path).to_string()))
@@ -220,7 +224,8 @@ impl ParamId {
             | ParamId::GearFrequency
             | ParamId::StribeckVelocity
             | ParamId::CurrentKnee
-            | ParamId::VoltageKnee => SignRule::Positive,
+            | ParamId::VoltageKnee
+            | ParamId::DriftTime(_) => SignRule::Positive,
             ParamId::Offset(_)
             | ParamId::Scale(_)
             | ParamId::Drift(_)
@@ -306,7 +311,13 @@ impl ParamId {
             Effect::SensorQuantization { .. } => vec![],
             Effect::OutputOffset { sensor, .. } => vec![ParamId::Offset(*sensor)],
             Effect::SensorScale { sensor, .. } => vec![ParamId::Scale(*sensor)],
-            Effect::SensorDrift { sensor, .. } => vec![ParamId::Drift(*sensor)],
+            Effect::SensorDrift { sensor, time_constant, .. } => {
+                let mut ids = vec![ParamId::Drift(*sensor)];
+                if time_constant.is_some() {
+                    ids.push(ParamId::DriftTime(*sensor));
+                }
+                ids
+            }
             Effect::TimeDelay { .. } => vec![ParamId::Delay],
             Effect::UnmodeledMode { stiffness_coupling, damping_coupling, .. } => {
                 let mut ids =
@@ -379,7 +390,12 @@ macro_rules! effect_field {
             (Effect::Backlash { gear_frequency_hz, .. }, ParamId::GearFrequency) => Some(gear_frequency_hz),
             (Effect::OutputOffset { sensor, offset }, ParamId::Offset(s)) if *sensor == s => Some(offset),
             (Effect::SensorScale { sensor, scale }, ParamId::Scale(s)) if *sensor == s => Some(scale),
-            (Effect::SensorDrift { sensor, rate }, ParamId::Drift(s)) if *sensor == s => Some(rate),
+            (Effect::SensorDrift { sensor, rate, .. }, ParamId::Drift(s)) if *sensor == s => Some(rate),
+            (Effect::SensorDrift { sensor, time_constant: Some(tau), .. }, ParamId::DriftTime(s))
+                if *sensor == s =>
+            {
+                Some(tau)
+            }
             (
                 Effect::UnmodeledMode { stiffness_coupling: Some(k), .. },
                 ParamId::ExtraModeStiffnessCoupling,

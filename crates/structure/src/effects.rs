@@ -53,12 +53,16 @@ pub enum Effect {
         /// s.
         scale: f64,
     },
-    /// A drift d·t of an output \[unit/s\].
+    /// A drift d·t of an output \[unit/s\]; with a time constant τ \[s\] it levels off,
+    /// d·τ(1 − e^{−t/τ}) (`drift_time_<output>`).
     SensorDrift {
         /// The output's column.
         output: String,
         /// d.
         rate: f64,
+        /// τ (absent: the drift goes on, d·t).
+        #[serde(default)]
+        time_constant: Option<f64>,
     },
     /// Readings rounded to multiples of `step`.
     SensorQuantization {
@@ -199,7 +203,11 @@ impl Effect {
         match self {
             Effect::OutputOffset { output, offset } => vec![(format!("offset_{output}"), *offset)],
             Effect::SensorScale { output, scale } => vec![(format!("scale_{output}"), *scale)],
-            Effect::SensorDrift { output, rate } => vec![(format!("drift_{output}"), *rate)],
+            Effect::SensorDrift { output, rate, time_constant } => {
+                let mut out = vec![(format!("drift_{output}"), *rate)];
+                out.extend(time_constant.map(|tau| (format!("drift_time_{output}"), tau)));
+                out
+            }
             Effect::SensorQuantization { .. } => Vec::new(),
             Effect::DryFriction { coordinate, force, static_peak, stribeck_velocity, .. } => {
                 let mut out = vec![(format!("friction_{coordinate}"), *force)];
@@ -235,9 +243,12 @@ impl Effect {
     /// Sets its k-th parameter (in the order of [`parameters`](Self::parameters)).
     pub(crate) fn set(&mut self, k: usize, value: f64) {
         match self {
-            Effect::OutputOffset { offset: v, .. }
-            | Effect::SensorScale { scale: v, .. }
-            | Effect::SensorDrift { rate: v, .. } => *v = value,
+            Effect::OutputOffset { offset: v, .. } | Effect::SensorScale { scale: v, .. } => *v = value,
+            Effect::SensorDrift { rate, time_constant, .. } => {
+                let mut slots: Vec<&mut f64> = vec![rate];
+                slots.extend(time_constant.as_mut());
+                *slots[k] = value;
+            }
             Effect::DryFriction { force, static_peak, stribeck_velocity, .. } => {
                 let mut slots: Vec<&mut f64> = vec![force];
                 slots.extend(static_peak.as_mut());
@@ -301,6 +312,9 @@ impl Effect {
                 }
                 Effect::DryFriction { stribeck_velocity: Some(v), .. } if *v <= 0.0 => {
                     Some(format!("stribeck_velocity = {v}: give a positive velocity"))
+                }
+                Effect::SensorDrift { time_constant: Some(tau), .. } if *tau <= 0.0 => {
+                    Some(format!("time_constant = {tau}: give a positive time constant [s]"))
                 }
                 Effect::Drag { exponent, .. } if *exponent < 1.0 => {
                     Some(format!("exponent = {exponent}: give an exponent of at least 1"))

@@ -6,7 +6,7 @@ use super::{Integrator, Model};
 use crate::ModelError;
 use crate::exponential::{ExponentialResponse, StructureExponential};
 use crate::ode::NonlinearResponse;
-use crate::sensors::{SensorEffect, SensorTerm, WithSensors};
+use crate::sensors::{SensorEffect, SensorTerm, TimeConstant, WithSensors};
 use crate::slewing::SlewingFitModel;
 use crate::structure::StructureFitModel;
 use mem::{Parameter, ResponseModel};
@@ -56,7 +56,11 @@ impl Model {
     ) -> Result<Box<dyn ResponseModel + Send + Sync>, ModelError> {
         // The sensor effects' parameters are the adapter's; the rest are the dynamics'.
         let sensor_effects = self.sensor_effects();
-        let is_sensor = |name: &str| sensor_effects.iter().any(|(n, _)| n == name);
+        let is_sensor = |name: &str| {
+            sensor_effects
+                .iter()
+                .any(|(n, e)| n == name || e.time_constant.as_ref().is_some_and(|c| c.name == name))
+        };
         let physics: Vec<&str> = free.iter().copied().filter(|n| !is_sensor(n)).collect();
         let inner: Box<dyn ResponseModel + Send + Sync> = match self {
             Model::Slewing(m)
@@ -94,6 +98,9 @@ impl Model {
             .into_iter()
             .map(|(name, mut e)| {
                 e.free = free.iter().position(|n| *n == name);
+                if let Some(c) = e.time_constant.as_mut() {
+                    c.free = free.iter().position(|n| *n == c.name);
+                }
                 e
             })
             .collect();
@@ -109,13 +116,20 @@ impl Model {
                 .filter_map(|(output, e)| {
                     let term = SensorTerm::of(e.kind())?;
                     let name = plant::ParamId::of_effect(&e).first().map(|id| id.name())?;
-                    let value = match e {
-                        plant::Effect::OutputOffset { offset, .. } => offset,
-                        plant::Effect::SensorScale { scale, .. } => scale,
-                        plant::Effect::SensorDrift { rate, .. } => rate,
+                    let (value, time_constant) = match e {
+                        plant::Effect::OutputOffset { offset, .. } => (offset, None),
+                        plant::Effect::SensorScale { scale, .. } => (scale, None),
+                        plant::Effect::SensorDrift { sensor, rate, time_constant } => (
+                            rate,
+                            time_constant.map(|value| TimeConstant {
+                                name: plant::ParamId::DriftTime(sensor).name(),
+                                value,
+                                free: None,
+                            }),
+                        ),
                         _ => return None,
                     };
-                    Some((name, SensorEffect { output, term, value, free: None }))
+                    Some((name, SensorEffect { output, term, value, free: None, time_constant }))
                 })
                 .collect(),
             Model::Structure(m) => {
@@ -123,21 +137,25 @@ impl Model {
                 m.effects()
                     .iter()
                     .filter_map(|e| {
-                        let (output, term, value) = match e {
+                        let (output, term, value, tau) = match e {
                             structure::Effect::OutputOffset { output, offset } => {
-                                (output, SensorTerm::Offset, *offset)
+                                (output, SensorTerm::Offset, *offset, None)
                             }
                             structure::Effect::SensorScale { output, scale } => {
-                                (output, SensorTerm::Scale, *scale)
+                                (output, SensorTerm::Scale, *scale, None)
                             }
-                            structure::Effect::SensorDrift { output, rate } => {
-                                (output, SensorTerm::Drift, *rate)
+                            structure::Effect::SensorDrift { output, rate, time_constant } => {
+                                (output, SensorTerm::Drift, *rate, *time_constant)
                             }
                             _ => return None,
                         };
-                        let name = e.parameters(&outputs).first()?.0.clone();
+                        let parameters = e.parameters(&outputs);
+                        let name = parameters.first()?.0.clone();
+                        let time_constant = tau.and_then(|value| {
+                            Some(TimeConstant { name: parameters.get(1)?.0.clone(), value, free: None })
+                        });
                         let output = outputs.iter().position(|o| o == output)?;
-                        Some((name, SensorEffect { output, term, value, free: None }))
+                        Some((name, SensorEffect { output, term, value, free: None, time_constant }))
                     })
                     .collect()
             }

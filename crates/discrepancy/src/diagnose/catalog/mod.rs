@@ -40,6 +40,11 @@ pub struct Trial {
     /// The effect of the model it takes the place of: a sibling already named (a current limit
     /// for a voltage limit, or back), which an earlier run could not tell from this one.
     pub replaces: Option<EffectKind>,
+    /// Shape parameters the data must locate inside their range: a refit that ends with one on
+    /// a bound, or with its standard error half its value or more, found no such form there,
+    /// and the effect's strength is then none (a drift's time constant, looked for from a third of
+    /// the record to three records).
+    pub interior: Vec<String>,
 }
 
 impl Trial {
@@ -64,6 +69,7 @@ impl Trial {
             located: None,
             alternatives: Vec::new(),
             replaces: None,
+            interior: Vec::new(),
         }
     }
 
@@ -83,6 +89,12 @@ impl Trial {
     /// The trial of a sensor effect on output `o`.
     fn on_output(mut self, o: usize) -> Self {
         self.output = Some(o);
+        self
+    }
+
+    /// Requires the data to locate `name` inside its range ([`Trial::interior`]).
+    fn located_inside(mut self, name: String) -> Self {
+        self.interior.push(name);
         self
     }
 
@@ -325,6 +337,23 @@ pub fn knee(model: &Model, effect: &ModelEffect) -> Option<KneeSearch> {
     }
 }
 
+/// Where the time constant τ of a drift that levels off is looked for, on a record of
+/// `record` seconds: from a third of the record (it levels off over the record, 95 % of its
+/// level at the end) to three records (within 15 % of a constant rate at the end), started at
+/// half and at the whole record (the refit keeps the better). The data must locate τ inside
+/// that range and resolve it ([`Trial::interior`]): on its lower bound the drift is an offset but for the
+/// record's first seconds — where the motion is largest, so that its rise stands in for a
+/// misfit of the dynamics there (a delay's) as much as for a sensor; on its upper one it is a
+/// constant rate. `None` for a record of no known length.
+pub(super) fn drift_time_range(record: f64) -> Option<((f64, f64), [f64; 2])> {
+    (record.is_finite() && record > 0.0).then(|| ((record / 3.0, 3.0 * record), [record / 2.0, record]))
+}
+
+/// The record's length as localisation measured it (the end of its last window).
+pub(super) fn record_length(localisation: &Localisation) -> f64 {
+    localisation.windows.last().map_or(f64::INFINITY, |w| w.1)
+}
+
 /// Cycles an unmodeled mode must complete within the record.
 const MIN_CYCLES: f64 = 3.0;
 
@@ -342,7 +371,7 @@ const LIGHTLY_DAMPED: f64 = 0.2;
 /// response. A structure's extra mode adds to the outputs without coupling, so near any of the
 /// modelled modes it would only stand in for a change of that mode: it avoids them all (15 %).
 fn mode_seeds(avoid: &[f64], margin: f64, max_damping: f64, localisation: &Localisation) -> Vec<Seed> {
-    let record = localisation.windows.last().map_or(f64::INFINITY, |w| w.1);
+    let record = record_length(localisation);
     let mut seeds: Vec<Seed> = Vec::new();
     for m in localisation.residual_modes.iter().chain(&localisation.data_modes) {
         let f = m.frequency_hz;

@@ -227,13 +227,28 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
         );
         out.push(
             trial(
-                Effect::SensorDrift { sensor: *sensor, rate: 0.0 },
+                Effect::SensorDrift { sensor: *sensor, rate: 0.0, time_constant: None },
                 format!("sensor_drift({name})"),
                 vec![],
                 vec![nonzero(ParamId::Drift(*sensor))],
             )
             .on_output(o),
         );
+        if let Some((range, [first, second])) = super::drift_time_range(super::record_length(localisation)) {
+            let levelling =
+                |tau: f64| Effect::SensorDrift { sensor: *sensor, rate: 0.0, time_constant: Some(tau) };
+            out.push(
+                trial(
+                    levelling(first),
+                    format!("sensor_drift({name}), levelling off"),
+                    vec![(ParamId::DriftTime(*sensor), range)],
+                    vec![nonzero(ParamId::Drift(*sensor))],
+                )
+                .on_output(o)
+                .or_from(levelling(second))
+                .located_inside(ParamId::DriftTime(*sensor).name()),
+            );
+        }
     }
     let servo = model
         .modal()

@@ -131,7 +131,7 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
         );
         out.push(
             trial(
-                Effect::SensorDrift { output: name.clone(), rate: 0.0 },
+                Effect::SensorDrift { output: name.clone(), rate: 0.0, time_constant: None },
                 format!("sensor_drift({name})"),
                 vec![],
                 vec![Strength::Nonzero(format!("drift_{name}"))],
@@ -139,6 +139,22 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
             )
             .on_output(o),
         );
+        if let Some((range, [first, second])) = super::drift_time_range(super::record_length(localisation)) {
+            let levelling =
+                |tau: f64| Effect::SensorDrift { output: name.clone(), rate: 0.0, time_constant: Some(tau) };
+            out.push(
+                trial(
+                    levelling(first),
+                    format!("sensor_drift({name}), levelling off"),
+                    vec![(format!("drift_time_{name}"), range)],
+                    vec![Strength::Nonzero(format!("drift_{name}"))],
+                    &outputs,
+                )
+                .on_output(o)
+                .or_from(levelling(second))
+                .located_inside(format!("drift_time_{name}")),
+            );
+        }
     }
     for Scales { coordinate: c, q, v, k, viscous } in scales(model) {
         out.push(
