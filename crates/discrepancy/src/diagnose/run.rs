@@ -271,13 +271,7 @@ pub fn strength_z(outcome: &FitOutcome, trial: &Trial) -> f64 {
     };
     // A shape parameter the data must locate: off its bounds, its standard error below half
     // its value.
-    let located = |name: &String| {
-        index(name).is_some_and(|i| {
-            report.on_bound[i].is_none()
-                && report.std_error(i).is_some_and(|se| se < 0.5 * report.parameters[i].abs())
-        })
-    };
-    if pole == 0.0 || !trial.interior.iter().all(located) {
+    if pole == 0.0 || !trial.interior.iter().all(|name| super::mismatch::determined(outcome, name)) {
         return 0.0;
     }
     let strength: Vec<&str> = trial.strength.iter().flat_map(|s| s.names()).collect();
