@@ -68,9 +68,10 @@ impl SensorEffect {
         match (self.term, tau) {
             (SensorTerm::Offset, _) => (v, 1.0, 0.0),
             (_, Some(tau)) => {
-                let decay = (-time / tau).exp();
-                let shape = tau * (1.0 - decay);
-                (v * shape, shape, v * ((1.0 - decay) - time / tau * decay))
+                // 1 − e^{−t/τ} as −expm1(−t/τ): exact to rounding however long τ (d·t in the limit).
+                let risen = -(-time / tau).exp_m1();
+                let shape = tau * risen;
+                (v * shape, shape, v * (risen - time / tau * (-time / tau).exp()))
             }
             _ => (v * time, time, 0.0),
         }

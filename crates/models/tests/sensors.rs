@@ -64,6 +64,27 @@ fn sensor_parameters_in_any_position_follow_the_callers_order() {
     }
 }
 
+/// A drift that levels off with a time constant far beyond the record is the drift at a
+/// constant rate, d·t, to rounding (1 − e^{−t/τ} is not formed by subtraction).
+#[test]
+fn a_drift_that_levels_off_after_ages_is_a_constant_rate() {
+    let d = 2e-3;
+    let read = |effect: &str| {
+        let text = plant::PAPER_MODEL_RON
+            .replace("    bounds: {", &format!("    effects: [{effect}],\n    bounds: {{"));
+        let model = Model::Slewing(SlewingModel::from_ron(&text, "drift.ron").unwrap());
+        let mut out = Response::zeros(400, 3, 0);
+        model.response(&[]).unwrap().respond(&[], &Grid::free(1.0 / 12.8), &mut out).unwrap();
+        out
+    };
+    let constant = read(&format!("SensorDrift(sensor: Potentiometer, rate: {d:e})"));
+    let ages = read(&format!("SensorDrift(sensor: Potentiometer, rate: {d:e}, time_constant: Some(1e300))"));
+    for s in 0..400 {
+        let (a, b) = (constant.outputs[(s, 0)], ages.outputs[(s, 0)]);
+        assert!((a - b).abs() <= 1e-15 * a.abs().max(1.0), "sample {s}: {a} vs {b}");
+    }
+}
+
 /// A drift that levels off, y + d·τ(1 − e^{−t/τ}), against its closed form on the bare model's
 /// outputs, and its two sensitivities (d and τ, freed beside C_v) against central differences.
 #[test]
