@@ -71,7 +71,7 @@ impl SensorEffect {
                 // 1 − e^{−t/τ} as −expm1(−t/τ): exact to rounding however long τ (d·t in the limit).
                 let risen = -(-time / tau).exp_m1();
                 let shape = tau * risen;
-                (v * shape, shape, v * (risen - time / tau * (-time / tau).exp()))
+                (v * shape, shape, v * (risen - time / tau * (1.0 - risen)))
             }
             _ => (v * time, time, 0.0),
         }
