@@ -53,7 +53,8 @@ SPLIT = {
         "B": ["uneven_levels", "ar1_0.7", "rho_+8", "rho_-8", "length_+3", "length_-3",
               "combined"],
         "B_seeds": 2,
-        "C": ["cogging", "gravity", "tach_ripple"],
+        "C": ["cogging", "gravity", "tach_ripple", "torque_fade", "gauge_clip", "channel_skew",
+              "crosstalk", "mains_hum"],
         "D": [("vsat_soft", "drag_p2.5"), ("zoh_delay", "offset_theta"),
               ("dahl", "quant_after_strain"), ("mode_damping", "scale_strain")],
         "D_seeds": 1,
@@ -101,7 +102,8 @@ C_ACCEPT = {
     "backlash": ["none", "backlash"], "hysteretic_beam": ["none"],
     "amplitude_damping": ["none"], "pot_nonlinearity": ["none"], "step_torque": ["none"],
     "time_jitter": ["none"], "cogging": ["none"], "gravity": ["none", "cubic_stiffness"],
-    "tach_ripple": ["none"],
+    "tach_ripple": ["none"], "torque_fade": ["none"], "gauge_clip": ["none"],
+    "channel_skew": ["none"], "crosstalk": ["none"], "mains_hum": ["none"],
 }
 
 
@@ -617,6 +619,25 @@ class Gravity(DynForm):
         sim.tau_hubs.append(lambda t, q, qd, z: -m * np.sin(q[:, 0]))
 
 
+class TorqueFade(DynForm):
+    """The motor's torque constant fading as it warms, K_t (1 - m t/T) over the record (held-out
+    form): the servo's torque and its back-EMF damping both weaken with time."""
+    def bounds(self):
+        return 1e-5, 0.6
+
+    def params(self, m):
+        return {"fade_over_record": m}
+
+    def configure(self, sim, m):
+        now = [0.0]
+
+        def feedback(t, q):
+            now[0] = t
+            return q[:, 0]
+        sim.theta_fb = feedback
+        sim.isat = lambda i: i * (1.0 - m * now[0] / DURATION)
+
+
 class Combined(DynForm):
     """Two dynamic forms at once (family D), each at its own magnitude."""
     def __init__(self, f1, f2, m1, m2):
@@ -638,7 +659,7 @@ DYN = {"clamp": Clamp, "current_tanh": CurrentTanh, "vsat_sharp": VsatSharp, "vs
        "drag_p1.5": Drag, "drag_p2": Drag, "drag_p2.5": Drag, "cubic_soft": Cubic,
        "cubic_hard": Cubic, "delay": Delay, "backlash": Backlash, "hysteretic_beam": HystereticBeam,
        "amplitude_damping": AmplitudeDamping, "pot_nonlinearity": PotNonlinearity,
-       "step_torque": StepTorque, "cogging": Cogging, "gravity": Gravity}
+       "step_torque": StepTorque, "cogging": Cogging, "gravity": Gravity, "torque_fade": TorqueFade}
 
 
 def search_magnitude(form, target):
@@ -814,15 +835,7 @@ def search_mode(ctx, kind, target):
     if capped:
         c = hi
     else:
-        for _ in range(60):                  # bisection in log c
-            mid = math.sqrt(lo * hi)
-            if ratio(mid) >= target:
-                hi = mid
-            else:
-                lo = mid
-            if hi / lo < 1.002:
-                break
-        c = math.sqrt(lo * hi)
+        c = log_bisect(ratio, target, lo, hi)
     draws = attempt + 1
     Y = resp(c)
     rpo = ratio_per_output(Y, reference(c), ctx.sigma)
@@ -1015,12 +1028,9 @@ def build_case(spec, seed):
             rec.update({"target_ratio": target, "achieved_ratio": float(rpo.max()), "capped": capped,
                         "ratio_per_output": dict(zip(OUTPUTS, rpo.tolist()))})
             dyn_parts.append(("mode", None, Ym - ctx.Y0))
-        elif form == "time_jitter":
-            rec.update(jitter(ctx, target))
-            dyn_parts.append(("jitter", None, rec.pop("_dY")))
-        elif form == "tach_ripple":
-            rec.update(tach_ripple(ctx, target))
-            dyn_parts.append(("ripple", None, rec.pop("_dY")))
+        elif form in READING_FORMS:
+            rec.update(READING_FORMS[form](ctx, target))
+            dyn_parts.append((form, None, rec.pop("_dY")))
         elif is_sensor_form(form):
             transforms.append((form, rec))
             continue
@@ -1074,6 +1084,19 @@ def build_case(spec, seed):
     return truth, Ymeas, ctx
 
 
+def log_bisect(ratio, target, lo, hi):
+    """The magnitude in [lo, hi] where ratio(m) reaches `target`: bisection in log m to 0.2 %."""
+    for _ in range(60):
+        mid = math.sqrt(lo * hi)
+        if ratio(mid) >= target:
+            hi = mid
+        else:
+            lo = mid
+        if hi / lo < 1.002:
+            break
+    return math.sqrt(lo * hi)
+
+
 def jitter(ctx, target):
     """Sampling-time jitter: sample k is taken at t_k + sigma_j eps_k (eps_k ~ N(0,1), common to
     the three channels; t_0 exact)."""
@@ -1087,16 +1110,7 @@ def jitter(ctx, target):
 
     def ratio(sj):
         return float(ratio_per_output(resp(sj), ctx.Y0, ctx.sigma).max())
-    lo, hi = 1e-7, 0.05
-    for _ in range(60):
-        mid = math.sqrt(lo * hi)
-        if ratio(mid) >= target:
-            hi = mid
-        else:
-            lo = mid
-        if hi / lo < 1.002:
-            break
-    sj = math.sqrt(lo * hi)
+    sj = log_bisect(ratio, target, 1e-7, 0.05)
     Y = resp(sj)
     rpo = ratio_per_output(Y, ctx.Y0, ctx.sigma)
     return {"jitter_std_s": sj, "target_ratio": target, "achieved_ratio": float(rpo.max()),
@@ -1116,6 +1130,63 @@ def tach_ripple(ctx, target):
     return {"amplitude": a, "segments": N, "phase": phi, "target_ratio": target,
             "achieved_ratio": float(rpo.max()), "ratio_per_output": dict(zip(OUTPUTS, rpo.tolist())),
             "_dY": dY}
+
+
+def _reading_change(ctx, dY, **params):
+    rpo = ratio_per_output(ctx.Y0 + dY, ctx.Y0, ctx.sigma)
+    return dict(params, achieved_ratio=float(rpo.max()), ratio_per_output=dict(zip(OUTPUTS, rpo.tolist())),
+                _dY=dY)
+
+
+def gauge_clip(ctx, target):
+    """The strain-gauge amplifier saturating: the reading clipped at +-L, L below the clean
+    peak by `target` noise sigmas (held-out form)."""
+    y = ctx.Y0[:, 2]
+    L = float(np.max(np.abs(y))) - target * ctx.sigma[2]
+    dY = np.zeros_like(ctx.Y0)
+    dY[:, 2] = np.clip(y, -L, L) - y
+    return _reading_change(ctx, dY, clip_level=L, target_ratio=target)
+
+
+def channel_skew(ctx, target):
+    """The strain channel sampled late by d (a multiplexed acquisition; held-out form): its
+    sample k is the clean strain at t_k - d, d found by bisection for `target` sigmas."""
+    pl = ctx.plant
+
+    def change(d):
+        dY = np.zeros_like(ctx.Y0)
+        dY[:, 2] = pl.linear_at_times(np.maximum(ctx.t - d, 0.0))[:, 2] - ctx.Y0[:, 2]
+        return dY
+    d = log_bisect(lambda d: float(ratio_per_output(ctx.Y0 + change(d), ctx.Y0, ctx.sigma).max()),
+                   target, 1e-7, 0.05)
+    return _reading_change(ctx, change(d), skew_s=d, target_ratio=target)
+
+
+def crosstalk(ctx, target):
+    """The tachometer's signal picked up by the strain channel, y_strain + c theta_dot (held-out
+    form), c of either sign for `target` sigmas at the largest rate."""
+    sign = float(ctx.rng.choice([-1.0, 1.0]))
+    c = sign * target * ctx.sigma[2] / float(np.max(np.abs(ctx.Y0[:, 1])))
+    dY = np.zeros_like(ctx.Y0)
+    dY[:, 2] = c * ctx.Y0[:, 1]
+    return _reading_change(ctx, dY, coupling=c, target_ratio=target)
+
+
+def mains_hum(ctx, target):
+    """Mains pickup on the strain channel, a sin(2 pi f t + phi), f 50 or 60 Hz, a = `target`
+    sigmas (held-out form; decimated to 12.8 Hz the anti-aliasing filter removes it)."""
+    f = float(ctx.rng.choice([50.0, 60.0]))
+    phi = float(ctx.rng.uniform(0, 2 * math.pi))
+    a = target * ctx.sigma[2]
+    dY = np.zeros_like(ctx.Y0)
+    dY[:, 2] = a * np.sin(2 * math.pi * f * ctx.t + phi)
+    return _reading_change(ctx, dY, amplitude=a, frequency_hz=f, phase=phi, target_ratio=target)
+
+
+# Forms that change the clean readings directly (no simulation): each returns its parameters and
+# the change `_dY` of the effect-free record.
+READING_FORMS = {"time_jitter": jitter, "tach_ripple": tach_ripple, "gauge_clip": gauge_clip,
+                 "channel_skew": channel_skew, "crosstalk": crosstalk, "mains_hum": mains_hum}
 
 
 # ================================================================================================
@@ -1140,8 +1211,10 @@ def case_specs(which):
             specs.append(spec)
     for ci, form in enumerate(sp["C"]):
         for si, strength in enumerate(("medium", "strong")):
+            # mains hum (50/60 Hz) is above the decimated band: read at 128 Hz both times
+            rate = 128 if (ci + si) % 2 == 1 or form == "mains_hum" else 12.8
             specs.append(dict(name=f"C_{form}_{strength}", family="C", forms=[form], strength=strength,
-                              rate=128 if (ci + si) % 2 == 1 else 12.8))
+                              rate=rate))
     for di, (f1, f2) in enumerate(sp["D"]):
         for s in range(1, sp["D_seeds"] + 1):
             specs.append(dict(name=f"D_{f1}+{f2}_s{s}", family="D", forms=[f1, f2], strength="medium",

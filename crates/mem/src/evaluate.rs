@@ -77,6 +77,30 @@ fn scale_rows(values: &mut [f64], weights: &[f64]) {
     blocks.into_remainder().iter_mut().zip(pattern).for_each(|(v, w)| *v *= w);
 }
 
+/// Whitens interleaved rows (k, o) — entry k·p + o — by each output's AR(1) coefficient ρ_o:
+/// row k becomes v_k − ρ_o v_{k−1}, and a row that starts a segment (row 0, or one whose
+/// predecessor has sample weight 0) (1 − ρ_o²)^½ v_k (see
+/// [`Experiment::with_noise_correlation`](crate::Experiment::with_noise_correlation)). Rows are
+/// taken last to first so each still sees its predecessor unchanged.
+fn whiten_rows(values: &mut [f64], rho: &[f64], sample_weights: Option<&[f64]>) {
+    let p = rho.len();
+    if p == 0 {
+        return;
+    }
+    let k = values.len() / p;
+    let starts = |row: usize| row == 0 || sample_weights.is_some_and(|w| w[row - 1] == 0.0);
+    for row in (0..k).rev() {
+        let (before, here) = values.split_at_mut(row * p);
+        let here = &mut here[..p];
+        if starts(row) {
+            here.iter_mut().zip(rho).for_each(|(v, r)| *v *= (1.0 - r * r).sqrt());
+        } else {
+            let previous = &before[(row - 1) * p..];
+            here.iter_mut().zip(previous).zip(rho).for_each(|((v, u), r)| *v -= r * u);
+        }
+    }
+}
+
 /// What an evaluation computes: the residual alone (the cost of a trial point the iteration
 /// may reject) or the residual and S.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -211,6 +235,9 @@ pub(crate) fn evaluate_for(problem: &Problem<'_>, p: &[f64], wanted: Wanted) -> 
             }
         };
         let scale = |values: &mut [f64]| {
+            if let Some(rho) = &e.noise_correlation {
+                whiten_rows(values, rho, e.sample_weights.as_deref());
+            }
             scale_rows(values, &e.weights);
             if let Some(scales) = &row_scales {
                 for (chunk, s) in values.chunks_exact_mut(n_out).zip(scales) {
@@ -218,23 +245,23 @@ pub(crate) fn evaluate_for(problem: &Problem<'_>, p: &[f64], wanted: Wanted) -> 
                 }
             }
         };
+        // Inside a reading's interval the residual is flat in P: where, before whitening.
+        let intervals = e.half_widths.iter().any(|h| *h > 0.0);
+        let flat: Option<Vec<bool>> = intervals.then(|| {
+            rows[..k * n_out]
+                .iter()
+                .enumerate()
+                .map(|(i, r)| e.half_widths[i % n_out] > 0.0 && *r == 0.0)
+                .collect()
+        });
         scale(&mut rows[..k * n_out]);
         // Weighted sensitivities, in place, column by column on contiguous slices.
-        let rows = &residual[row..row + k * n_out];
-        let intervals = e.half_widths.iter().any(|h| *h > 0.0);
         for i in 0..out.sensitivities.ncols() {
             let column =
                 out.sensitivities.col_mut(i).try_as_col_major_mut().expect("an owned Mat is column-major");
             let column = column.as_slice_mut();
-            if intervals {
-                // Inside a reading's interval the residual is flat in P.
-                for (d, r) in column.chunks_exact_mut(n_out).zip(rows.chunks_exact(n_out)) {
-                    for ((d, r), h) in d.iter_mut().zip(r).zip(&e.half_widths) {
-                        if *h > 0.0 && *r == 0.0 {
-                            *d = 0.0;
-                        }
-                    }
-                }
+            if let Some(flat) = &flat {
+                column.iter_mut().zip(flat).filter(|(_, f)| **f).for_each(|(d, _)| *d = 0.0);
             }
             scale(column);
             if let Some(stacked) = stacked.as_mut() {

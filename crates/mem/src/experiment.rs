@@ -21,6 +21,12 @@ pub struct Experiment<'a> {
     /// A weight per sample (row of the record), multiplying its residuals and sensitivities;
     /// 0 leaves a sample out (a held-out block). None: every sample counts.
     pub sample_weights: Option<Vec<f64>>,
+    /// The lag-one coefficient ρ_o of each output's AR(1) noise, e_k = ρ_o e_{k−1} + u_k
+    /// (None: white noise). Each output's residuals and sensitivities are whitened to the
+    /// innovations u_k = e_k − ρ_o e_{k−1} (u₀ = (1 − ρ_o²)^½ e₀) before the weights, so the
+    /// error is the Gaussian AR(1) log-likelihood's sum of squares at these ρ_o and weights
+    /// 1/s_o; see [`Experiment::with_noise_correlation`].
+    pub noise_correlation: Option<Vec<f64>>,
 }
 
 impl<'a> Experiment<'a> {
@@ -33,6 +39,7 @@ impl<'a> Experiment<'a> {
             half_widths: vec![0.0; data.n_outputs()],
             parameters: None,
             sample_weights: None,
+            noise_correlation: None,
         }
     }
 
@@ -54,6 +61,18 @@ impl<'a> Experiment<'a> {
     /// Weights per sample (0 leaves a sample out of the fit, e.g. to score a prediction of it).
     pub fn with_sample_weights(mut self, weights: Vec<f64>) -> Self {
         self.sample_weights = Some(weights);
+        self
+    }
+
+    /// Fits under AR(1) noise of lag-one coefficients `rho` (one per output, |ρ| < 1): the
+    /// error becomes Σ_o w_o² U_o, U_o = (1 − ρ_o²)e₀² + Σ_k (e_k − ρ_o e_{k−1})², which with
+    /// w_o = 1/s_o (the innovations' standard deviation) is −2 × the Gaussian log-likelihood up
+    /// to a constant — generalised least squares, the maximum-likelihood fit when the noise is
+    /// that model. A sample weight then weights the innovation u_k, and a sample left out (weight 0)
+    /// ends a segment: the next starts anew, (1 − ρ_o²)^½ e_k, as a held-out score of the same
+    /// likelihood on alternate blocks counts it.
+    pub fn with_noise_correlation(mut self, rho: Vec<f64>) -> Self {
+        self.noise_correlation = Some(rho);
         self
     }
 
@@ -130,6 +149,14 @@ impl<'a> Experiment<'a> {
             return Err(MemError::Shape(format!(
                 "experiment {index}: need one finite sample weight ≥ 0 per sample ({})",
                 self.data.n_samples()
+            )));
+        }
+        if let Some(rho) = &self.noise_correlation
+            && (rho.len() != self.data.n_outputs() || rho.iter().any(|r| !(r.is_finite() && r.abs() < 1.0)))
+        {
+            return Err(MemError::Shape(format!(
+                "experiment {index}: need one finite noise correlation ρ with |ρ| < 1 per output ({})",
+                self.data.n_outputs()
             )));
         }
         if self.data.start() < 0.0 {

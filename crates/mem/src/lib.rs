@@ -39,6 +39,11 @@
 //! * **Weights and several experiments**: each output's residual is multiplied by a weight
 //!   (e.g. 1/RMS); experiments with shared parameters (and their own, e.g. initial states)
 //!   stack their E and S row-wise ([`Experiment::with_parameters`]).
+//! * **Correlated noise** ([`Experiment::with_noise_correlation`]): under AR(1) noise
+//!   e_k = ρ_o e_{k−1} + u_k per output, E and S are whitened row-wise to the innovations
+//!   u_k = e_k − ρ_o e_{k−1} (u₀ = (1 − ρ_o²)^½ e₀, and likewise after a left-out sample) before
+//!   the weights; with weights 1/s_o (the innovations' standard deviation) Eq. 22 becomes −2 × the
+//!   Gaussian AR(1) log-likelihood up to a constant — generalised least squares (Aitken 1935).
 //! * **Decimation without bias** ([`Measurement::decimate`]): the model's outputs and
 //!   sensitivities go through the very filter the data went through (a root-raised-cosine,
 //!   which keeps decimated white noise white), simulated at the raw rate.

@@ -36,6 +36,13 @@ pub struct FitRequest {
     /// Stop when the predicted relative decrease of the error is below this (None: the MEM
     /// default, 10⁻¹²).
     pub cost_tolerance: Option<f64>,
+    /// Output weights for every experiment, overriding `normalize` (e.g. 1/s_o, the noise's
+    /// standard deviation per output, for a likelihood fit); None: as `normalize` says.
+    pub output_weights: Option<Vec<f64>>,
+    /// AR(1) lag-one coefficients of the noise per output, the same for every experiment:
+    /// residuals and sensitivities are whitened before the weights
+    /// ([`mem::Experiment::with_noise_correlation`]); None: white noise.
+    pub noise_correlation: Option<Vec<f64>>,
 }
 
 impl FitRequest {
@@ -53,6 +60,8 @@ impl FitRequest {
             sample_weights: Vec::new(),
             integrator: Integrator::default(),
             cost_tolerance: None,
+            output_weights: None,
+            noise_correlation: None,
         }
     }
 }
@@ -225,6 +234,12 @@ pub fn fit_experiments(
             experiment.with_quantization(&reading_steps(model, record)).with_parameters(indices);
         if let Some(w) = request.sample_weights.get(e) {
             experiment = experiment.with_sample_weights(w.clone());
+        }
+        if let Some(w) = &request.output_weights {
+            experiment.weights = w.clone();
+        }
+        if let Some(rho) = &request.noise_correlation {
+            experiment = experiment.with_noise_correlation(rho.clone());
         }
         experiments.push(experiment);
     }

@@ -92,6 +92,45 @@ impl NoiseModel {
     }
 }
 
+/// The measurement model as a fit's weights: a refit that minimises
+/// Σ_o Σ_k ((e_k − ρ_o e_{k−1})/s_o)² maximises the Gaussian AR(1) likelihood the evidence
+/// scores, at the noise model's ρ_o and innovation scales s_o (generalised least squares).
+#[derive(Clone, Debug)]
+pub struct LikelihoodFit {
+    /// ρ_o per output.
+    pub rho: Vec<f64>,
+    /// 1/s_o per output.
+    pub weights: Vec<f64>,
+}
+
+impl NoiseModel {
+    /// The fit weights of this model with innovation scales s_o from `residual` (the
+    /// best-fitting model's): s_o² = U_o/n, floored at 10⁻¹² of the output's RMS so a perfect
+    /// fit still weighs its output.
+    pub fn fit_weights(&self, residual: &Mat<f64>) -> LikelihoodFit {
+        let weights = (0..residual.ncols())
+            .map(|o| {
+                let rho = self.rho[o];
+                let n = residual.nrows();
+                let (mut u, mut power) = (0.0, 0.0);
+                for k in 0..n {
+                    let e = residual[(k, o)];
+                    power += e * e;
+                    u += if k > 0 {
+                        (e - rho * residual[(k - 1, o)]).powi(2)
+                    } else {
+                        (1.0 - rho * rho) * e * e
+                    };
+                }
+                let floor = 1e-24 * power / n.max(1) as f64;
+                let s2 = (u / n.max(1) as f64).max(floor);
+                if s2 > 0.0 { 1.0 / s2.sqrt() } else { 1.0 }
+            })
+            .collect();
+        LikelihoodFit { rho: self.rho.clone(), weights }
+    }
+}
+
 /// Σ_o of a per-output difference.
 pub fn gain(candidate: &[f64], baseline: &[f64]) -> f64 {
     candidate.iter().zip(baseline).map(|(c, b)| c - b).sum()
@@ -228,5 +267,40 @@ mod tests {
         let model = NoiseModel::of(&clean);
         let gain = model.log_likelihoods(&clean, None)[0] - model.log_likelihoods(&misfit, None)[0];
         assert!(gain > 100.0, "{gain}");
+    }
+
+    #[test]
+    fn the_fit_weights_are_the_inverse_innovation_scales_the_likelihood_profiles() {
+        // The weight 1/s_o of a likelihood fit: s_o² = U_o/n, the innovation variance the
+        // log-likelihood −(n/2) ln(U_o/n) profiles; with the weights, Σ (w u)² = n per output.
+        let (a, b) = (white(500, 0.1, 3), white(500, 3.0, 4));
+        let mut lagged = vec![0.0; 500];
+        for k in 0..500 {
+            lagged[k] = b[k] + if k > 0 { 0.8 * lagged[k - 1] } else { 0.0 };
+        }
+        let residual = Mat::from_fn(500, 2, |k, o| if o == 0 { a[k] } else { lagged[k] });
+        let noise = NoiseModel::of(&residual);
+        assert!(noise.rho[0].abs() < 0.2 && (noise.rho[1] - 0.8).abs() < 0.1, "{:?}", noise.rho);
+        let fit = noise.fit_weights(&residual);
+        assert_eq!(fit.rho, noise.rho);
+        for o in 0..2 {
+            let rho = noise.rho[o];
+            let u: f64 = (0..500)
+                .map(|k| {
+                    let e = residual[(k, o)];
+                    if k == 0 { (1.0 - rho * rho) * e * e } else { (e - rho * residual[(k - 1, o)]).powi(2) }
+                })
+                .sum();
+            assert!((u * fit.weights[o].powi(2) / 500.0 - 1.0).abs() < 1e-12, "output {o}");
+            let profiled = -250.0 * (u / 500.0).ln();
+            assert!((noise.log_likelihoods(&residual, None)[o] - profiled).abs() < 1e-9);
+        }
+        // Innovation scales about 0.1 and 3 (the second series' driving noise).
+        assert!(
+            (1.0 / fit.weights[0] / 0.1 - 1.0).abs() < 0.1 && (1.0 / fit.weights[1] / 3.0 - 1.0).abs() < 0.1
+        );
+        // A zero residual still gets a finite weight.
+        let zero = Mat::<f64>::zeros(50, 1);
+        assert!(NoiseModel::of(&zero).fit_weights(&zero).weights[0].is_finite());
     }
 }

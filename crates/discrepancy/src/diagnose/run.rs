@@ -3,7 +3,7 @@
 
 use super::answer::{EffectParameter, last_error};
 use super::catalog::{Located, Trial};
-use super::evidence::{block_length, folds};
+use super::evidence::{LikelihoodFit, block_length, folds};
 use crate::WorkflowError;
 use crate::stats::ljung_box;
 use faer::Mat;
@@ -89,6 +89,34 @@ pub(super) fn refit(
     refit_to(model, data, free, sample_weights, iterations, Precision::Evidence)
 }
 
+/// [`refit`] by the measurement model's likelihood (`under`) instead of the RMS-weighted error.
+fn refit_under(
+    model: &Model,
+    data: &Measurement,
+    free: &[String],
+    sample_weights: Option<&[f64]>,
+    iterations: usize,
+    under: &LikelihoodFit,
+) -> Result<FitOutcome, WorkflowError> {
+    let refs: Vec<&str> = free.iter().map(|s| s.as_str()).collect();
+    let mut request = request(&refs, model, iterations, Precision::Evidence);
+    request.output_weights = Some(under.weights.clone());
+    request.noise_correlation = Some(under.rho.clone());
+    if let Some(w) = sample_weights {
+        request.sample_weights = vec![w.to_vec()];
+    }
+    Ok(models::fit(model, data, &request)?)
+}
+
+fn request(free: &[&str], model: &Model, iterations: usize, precision: Precision) -> FitRequest {
+    let mut request = FitRequest::new(free);
+    request.max_iterations = iterations;
+    request.derivative_check = mem::DerivativeCheck::Skip;
+    request.integrator = models::Integrator::Exponential { max_step: max_step(model) };
+    request.cost_tolerance = (precision == Precision::Evidence).then_some(COST_TOLERANCE);
+    request
+}
+
 /// [`refit`] to a chosen [`Precision`].
 pub(super) fn refit_to(
     model: &Model,
@@ -99,11 +127,7 @@ pub(super) fn refit_to(
     precision: Precision,
 ) -> Result<FitOutcome, WorkflowError> {
     let refs: Vec<&str> = free.iter().map(|s| s.as_str()).collect();
-    let mut request = FitRequest::new(&refs);
-    request.max_iterations = iterations;
-    request.derivative_check = mem::DerivativeCheck::Skip;
-    request.integrator = models::Integrator::Exponential { max_step: max_step(model) };
-    request.cost_tolerance = (precision == Precision::Evidence).then_some(COST_TOLERANCE);
+    let mut request = request(&refs, model, iterations, precision);
     if let Some(w) = sample_weights {
         request.sample_weights = vec![w.to_vec()];
     }
@@ -348,10 +372,11 @@ pub fn held_out(
     folds: &Folds,
     free: &[String],
     data: &Measurement,
+    under: &LikelihoodFit,
 ) -> Result<Mat<f64>, WorkflowError> {
     let train = &folds.weights[fold];
     let outcome = match from {
-        HeldOut::Reference(model) => refit(model, data, free, Some(train), HELD_OUT_ITERATIONS)?,
+        HeldOut::Reference(model) => refit_under(model, data, free, Some(train), HELD_OUT_ITERATIONS, under)?,
         HeldOut::Candidate(trial, fitted) => {
             // The full refit's model carries its trial's bounds (a resonance's range as it
             // was last moved).
@@ -360,7 +385,7 @@ pub fn held_out(
                 None => return Err(WorkflowError::Unscored(trial.label.clone())),
             };
             let free = names(free, trial.freed.iter().cloned());
-            refit(&model, data, &free, Some(train), HELD_OUT_ITERATIONS)?
+            refit_under(&model, data, &free, Some(train), HELD_OUT_ITERATIONS, under)?
         }
     };
     Ok(outcome.first().residual())

@@ -78,6 +78,7 @@ impl Scoring<'_> {
             .min_by(|a, b| last_error(a).total_cmp(&last_error(b)))
             .expect("the reference is there");
         let noise = NoiseModel::of(&best.first().residual());
+        let under = noise.fit_weights(&best.first().residual());
         let likelihoods = |outcome: &FitOutcome| noise.log_likelihoods(&outcome.first().residual(), None);
         let reference_likelihoods = likelihoods(&reference.outcome);
         let m = (data.n_samples() * data.n_outputs()) as f64;
@@ -164,7 +165,7 @@ impl Scoring<'_> {
                         Some(i) => run::HeldOut::Candidate(&trials[i], candidates[i].model.as_ref()),
                     };
                     let test = &folds.weights[1 - fold];
-                    let result = run::held_out(from, fold, folds, reference_free, data)
+                    let result = run::held_out(from, fold, folds, reference_free, data, &under)
                         .map(|residual| noise.log_likelihoods(&residual, Some(test)));
                     observer.progress(
                         "held-out",
