@@ -514,8 +514,11 @@ fn a_longer_beam_under_weak_coloured_noise_is_still_a_length_mismatch() {
 /// what the length leaves then looks like an unmodeled mode coupled through stiffness, which
 /// predicts the held-out blocks by thousands of nats. The length refitted alone explains the
 /// record better than that mode with one parameter against its three: the answer is `none`,
-/// the mode unseated by the length, and the length where the truth put it (1.1543 m). (Before
-/// every named effect was set against the model's own parameters, this named the mode.)
+/// the stand-in unseated by the length, and the length where the truth put it (1.1543 m).
+/// (Before every named effect was set against the model's own parameters, this named the mode.
+/// Since the held-out refits are fitted by the measurement model's likelihood, the evidence's
+/// choice is a strain-gauge scale, which the length unseats as well; either stand-in may be the
+/// one chosen, neither may be named.)
 #[test]
 fn a_shorter_beam_is_a_length_mismatch_not_an_unmodeled_mode() {
     let d = decimated_fixture_from("slewing_short", |t| {
@@ -523,13 +526,17 @@ fn a_shorter_beam_is_a_length_mismatch_not_an_unmodeled_mode() {
     });
     assert!(d.named().is_none(), "{:?}", d.answer());
     assert!(!d.mismatch_parameters.iter().any(|p| p == "rho"), "{:?}", d.mismatch_parameters);
-    let mode = d
+    let stand_in = d
         .candidates
         .iter()
         .find(|c| c.verdict == Verdict::MatchedByMismatch)
         .expect("an effect was unseated");
-    assert_eq!(mode.kind, plant::EffectKind::UnmodeledMode, "{:?}", d.answer());
-    assert_the_length_unseats(&d, mode, 1.1543);
+    assert!(
+        matches!(stand_in.kind, plant::EffectKind::UnmodeledMode | plant::EffectKind::SensorScale),
+        "{:?}",
+        d.answer()
+    );
+    assert_the_length_unseats(&d, stand_in, 1.1543);
 }
 
 /// Cogging at the hub (outside the catalog), strong, at 128 Hz under AR(1) noise: held-out case
