@@ -68,20 +68,7 @@ impl NoiseModel {
     pub fn log_likelihoods(&self, residual: &Mat<f64>, rows: Option<&[f64]>) -> Vec<f64> {
         (0..residual.ncols())
             .map(|o| {
-                let rho = self.rho[o];
-                let keep = |k: usize| rows.is_none_or(|w| w[k] > 0.0);
-                let (mut u, mut n) = (0.0, 0usize);
-                for k in 0..residual.nrows() {
-                    if keep(k) {
-                        let e = residual[(k, o)];
-                        u += if k > 0 && keep(k - 1) {
-                            (e - rho * residual[(k - 1, o)]).powi(2)
-                        } else {
-                            (1.0 - rho * rho) * e * e
-                        };
-                        n += 1;
-                    }
-                }
+                let (u, n) = self.innovations(residual, o, rows);
                 if n == 0 || u == 0.0 {
                     return 0.0;
                 }
@@ -89,6 +76,26 @@ impl NoiseModel {
                 -0.5 * n * (u / n).ln()
             })
             .collect()
+    }
+
+    /// Output o's innovations' sum of squares U under ρ_o over the rows of positive weight
+    /// (all if None), and how many rows that is.
+    fn innovations(&self, residual: &Mat<f64>, o: usize, rows: Option<&[f64]>) -> (f64, usize) {
+        let rho = self.rho[o];
+        let keep = |k: usize| rows.is_none_or(|w| w[k] > 0.0);
+        let (mut u, mut n) = (0.0, 0usize);
+        for k in 0..residual.nrows() {
+            if keep(k) {
+                let e = residual[(k, o)];
+                u += if k > 0 && keep(k - 1) {
+                    (e - rho * residual[(k - 1, o)]).powi(2)
+                } else {
+                    (1.0 - rho * rho) * e * e
+                };
+                n += 1;
+            }
+        }
+        (u, n)
     }
 }
 
@@ -108,22 +115,12 @@ impl NoiseModel {
     /// best-fitting model's): s_o² = U_o/n, floored at 10⁻¹² of the output's RMS so a perfect
     /// fit still weighs its output.
     pub fn fit_weights(&self, residual: &Mat<f64>) -> LikelihoodFit {
+        let n = residual.nrows().max(1) as f64;
         let weights = (0..residual.ncols())
             .map(|o| {
-                let rho = self.rho[o];
-                let n = residual.nrows();
-                let (mut u, mut power) = (0.0, 0.0);
-                for k in 0..n {
-                    let e = residual[(k, o)];
-                    power += e * e;
-                    u += if k > 0 {
-                        (e - rho * residual[(k - 1, o)]).powi(2)
-                    } else {
-                        (1.0 - rho * rho) * e * e
-                    };
-                }
-                let floor = 1e-24 * power / n.max(1) as f64;
-                let s2 = (u / n.max(1) as f64).max(floor);
+                let (u, _) = self.innovations(residual, o, None);
+                let power = residual.col(o).squared_norm_l2();
+                let s2 = (u / n).max(1e-24 * power / n);
                 if s2 > 0.0 { 1.0 / s2.sqrt() } else { 1.0 }
             })
             .collect();

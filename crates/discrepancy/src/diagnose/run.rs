@@ -98,23 +98,7 @@ fn refit_under(
     iterations: usize,
     under: &LikelihoodFit,
 ) -> Result<FitOutcome, WorkflowError> {
-    let refs: Vec<&str> = free.iter().map(|s| s.as_str()).collect();
-    let mut request = request(&refs, model, iterations, Precision::Evidence);
-    request.output_weights = Some(under.weights.clone());
-    request.noise_correlation = Some(under.rho.clone());
-    if let Some(w) = sample_weights {
-        request.sample_weights = vec![w.to_vec()];
-    }
-    Ok(models::fit(model, data, &request)?)
-}
-
-fn request(free: &[&str], model: &Model, iterations: usize, precision: Precision) -> FitRequest {
-    let mut request = FitRequest::new(free);
-    request.max_iterations = iterations;
-    request.derivative_check = mem::DerivativeCheck::Skip;
-    request.integrator = models::Integrator::Exponential { max_step: max_step(model) };
-    request.cost_tolerance = (precision == Precision::Evidence).then_some(COST_TOLERANCE);
-    request
+    fit_by(model, data, free, sample_weights, iterations, Precision::Evidence, Some(under))
 }
 
 /// [`refit`] to a chosen [`Precision`].
@@ -126,13 +110,33 @@ pub(super) fn refit_to(
     iterations: usize,
     precision: Precision,
 ) -> Result<FitOutcome, WorkflowError> {
+    fit_by(model, data, free, sample_weights, iterations, precision, None)
+}
+
+/// The one refit every path above makes: the RMS-weighted error, or the likelihood `under`.
+fn fit_by(
+    model: &Model,
+    data: &Measurement,
+    free: &[String],
+    sample_weights: Option<&[f64]>,
+    iterations: usize,
+    precision: Precision,
+    under: Option<&LikelihoodFit>,
+) -> Result<FitOutcome, WorkflowError> {
     let refs: Vec<&str> = free.iter().map(|s| s.as_str()).collect();
-    let mut request = request(&refs, model, iterations, precision);
+    let mut request = FitRequest::new(&refs);
+    request.max_iterations = iterations;
+    request.derivative_check = mem::DerivativeCheck::Skip;
+    request.integrator = models::Integrator::Exponential { max_step: max_step(model) };
+    request.cost_tolerance = (precision == Precision::Evidence).then_some(COST_TOLERANCE);
     if let Some(w) = sample_weights {
         request.sample_weights = vec![w.to_vec()];
     }
-    let r = models::fit(model, data, &request);
-    Ok(r?)
+    if let Some(under) = under {
+        request.output_weights = Some(under.weights.clone());
+        request.noise_correlation = Some(under.rho.clone());
+    }
+    Ok(models::fit(model, data, &request)?)
 }
 
 /// The exponential integrator's longest substep for `model`: the default, or a fortieth of
