@@ -6,13 +6,14 @@
 //! `truth.json` and `data/`). For every sensor of every record that the truth does not quantize, the blurred
 //! lattice test ([`discrepancy::quantization::blurred`]) is run on the raw readings with no bar,
 //! and its confirmation z is collected. The smallest step it looks at is half the sensor's
-//! noise σ, taken from the truth (the diagnosis takes it from the reference fit's residual,
-//! which adds the misfit and so looks at steps no smaller). The counts above a few levels are
+//! noise σ, taken from the truth (the diagnosis takes it from the residual about the reference
+//! fit or its modal correction, whichever is smaller, which adds what misfit is left and so
+//! looks at steps no smaller). The counts above a few levels are
 //! printed beside what Student's t with [`discrepancy::quantization::BATCHES`] − 1 degrees of
 //! freedom expects, the null of a mean of batch means whose phase comes from the other half;
 //! then how many of the quantized sensors' records reach the bars. With `--floor K` the
-//! smallest step is K/2 noise σ instead (the diagnosis's floor, half the reference residual's
-//! RMS, is K/2 σ when the misfit makes the residual K times the noise).
+//! smallest step is K/2 noise σ instead (the diagnosis's floor, half that residual's RMS, is
+//! K/2 σ when the misfit makes the residual K times the noise).
 
 use discrepancy::quantization::{BATCHES, batch_threshold, blurred};
 use statrs::distribution::{ContinuousCDF, StudentsT};

@@ -35,7 +35,8 @@
 //!   one, and the accepted point is simulated again with its sensitivities (the outputs are the
 //!   same bits, so the iterates are those of evaluating every trial in full).
 //! * **Bounds as constraints**: an active set holds a parameter on its bound when the data
-//!   pull it outward and solves the step for the others ([`Fit`]).
+//!   pull it outward, or when the step solved with it free would push it outward (Lawson &
+//!   Hanson 1974, ch. 23), and solves the step for the others ([`Fit`]).
 //! * **Weights and several experiments**: each output's residual is multiplied by a weight
 //!   (e.g. 1/RMS); experiments with shared parameters (and their own, e.g. initial states)
 //!   stack their E and S row-wise ([`Experiment::with_parameters`]).

@@ -8,7 +8,8 @@ use mem::{
 };
 use std::sync::atomic::{AtomicUsize, Ordering};
 use test_problems::{
-    HandDerivedBuilding, ProductOscillator, ShearBuilding, add_noise, parameters, simulate_measurement,
+    HandDerivedBuilding, ProductOscillator, ShearBuilding, SpringChain, add_noise, parameters,
+    simulate_measurement,
 };
 
 #[test]
@@ -582,5 +583,62 @@ fn a_response_that_depends_on_nothing_is_refused_with_or_without_the_derivative_
             .unwrap();
         assert!(matches!(error, MemError::NothingToFit { .. }), "{check:?}: {error}");
         assert!(error.to_string().contains("does not change with any parameter"), "{error}");
+    }
+}
+
+/// The spring chain with its coupling spring k₂ fixed: k₁ and c free.
+struct ChainWithCoupling(f64);
+impl LinearModel for ChainWithCoupling {
+    type Error = std::convert::Infallible;
+    fn n_states(&self) -> usize {
+        4
+    }
+    fn n_params(&self) -> usize {
+        2
+    }
+    fn output_names(&self) -> Vec<String> {
+        vec!["y0".into(), "y1".into()]
+    }
+    fn linearize(&self, p: &[f64]) -> Result<Linearized, Self::Error> {
+        let mut full = SpringChain { x0: [0.0, 0.1] }.linearize(&[p[0], self.0, p[1]])?;
+        full.da.remove(1);
+        Ok(full)
+    }
+}
+
+/// A parameter on its bound whose descent direction points into the box is released, but the
+/// Gauss–Newton step, moving k₁ with it, would push k₂ back out: projected, that step moves k₁
+/// as if k₂ had moved, and the damping rejects it until it is tiny. Held, k₂ stays on its bound
+/// and the step is solved for k₁ and c — no trial is rejected, and the fit ends where the fit
+/// with k₂ fixed there does.
+#[test]
+fn a_parameter_the_step_would_push_through_its_bound_is_held_not_projected() {
+    let model = LinearResponse(SpringChain { x0: [0.0, 0.1] });
+    let data = add_noise(&simulate_measurement(&model, &SpringChain::TRUE, 0.02, 500, 0.0, 0), 0.01, 4);
+    let bound = 16.0; // the truth's k₂ is 15: the constrained optimum is on the bound
+    let params = vec![
+        Parameter::new("k1", 45.0).with_bounds(1.0, 100.0),
+        Parameter::new("k2", bound).with_bounds(bound, 100.0),
+        Parameter::new("c", 0.3).with_bounds(0.01, 5.0),
+    ];
+    let fit = Fit::new().with_derivative_check(DerivativeCheck::Skip);
+    let report = fit.run(&Problem::new(vec![Experiment::new(&model, &data)], params).unwrap()).unwrap();
+    assert_eq!(report.termination, Termination::Converged);
+    assert_eq!(report.parameters[1], bound);
+    let first = &report.records[0];
+    assert_eq!(first.step[1], 0.0, "k₂ held on its bound: {:?}", first.step);
+    let rejected: Vec<usize> = report.records.iter().map(|r| r.rejected_trials).collect();
+    assert!(rejected.iter().all(|&r| r == 0), "rejected trials per iteration {rejected:?}");
+    let fixed_model = LinearResponse(ChainWithCoupling(bound));
+    let fixed = fit
+        .run(
+            &Problem::new(vec![Experiment::new(&fixed_model, &data)], parameters(&["k1", "c"], &[45.0, 0.3]))
+                .unwrap(),
+        )
+        .unwrap();
+    for (got, want) in
+        [(report.parameters[0], fixed.parameters[0]), (report.parameters[2], fixed.parameters[1])]
+    {
+        assert!((got / want - 1.0).abs() < 1e-6, "{got} against {want}");
     }
 }

@@ -130,7 +130,7 @@ pub fn blurred(values: &[f64], min_step: f64, threshold: f64) -> Option<(f64, f6
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::quantization::detect;
+    use crate::quantization::{LatticeForm, Thresholds, detect, detect_about};
     use rand::{Rng, SeedableRng};
 
     fn decay(n: usize) -> Vec<f64> {
@@ -252,5 +252,31 @@ mod tests {
         assert!((found / step - 1.0).abs() < 0.01, "{found}");
         assert!(z > 20.0, "{z}");
         assert!((blur / 0.001 - 1.0).abs() < 0.3, "{blur}");
+    }
+
+    #[test]
+    fn a_misfit_the_modal_correction_removes_does_not_hide_a_finer_lattice() {
+        // A fast mode (1.3 rad/sample, above a decimated fit's Nyquist) the fitted response
+        // misses: the residual about the fit is 0.04 RMS, so a search from half of it would
+        // start above the 0.01 step. The corrected response holds the mode; about it the
+        // residual is the quantizer and the noise, and the step is searched from there.
+        let mut rng = rand::rngs::StdRng::seed_from_u64(23);
+        let step = 0.01;
+        let slow = decay(3000);
+        let exact_response: Vec<f64> = slow
+            .iter()
+            .enumerate()
+            .map(|(k, v)| v + 0.1 * (-(k as f64) / 2000.0).exp() * (1.3 * k as f64).cos())
+            .collect();
+        let readings: Vec<f64> = exact_response
+            .iter()
+            .map(|v| step * (v / step).round() + 0.002 * rng.sample::<f64, _>(rand_distr::StandardNormal))
+            .collect();
+        let bars = Thresholds { blurred: 8.0, sawtooth: 8.0 };
+        let alone = detect_about(&readings, &[&slow], bars);
+        assert!(alone.is_none(), "{alone:?}");
+        let lattice = detect_about(&readings, &[&slow, &exact_response], bars).expect("the lattice");
+        assert!((lattice.step / step - 1.0).abs() < 0.01, "{}", lattice.step);
+        assert!(matches!(lattice.form, LatticeForm::Blurred { .. }));
     }
 }

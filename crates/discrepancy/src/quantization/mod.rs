@@ -201,18 +201,26 @@ pub fn detect(values: &[f64], fitted: &[f64], threshold: f64) -> Option<Lattice>
 
 /// [`detect`] with several responses the sawtooth may be read about, tried in turn (the fitted
 /// response, then the same corrected by [`modal_corrected`]): each correction fits the noise a
-/// little too, so a response that finds the sawtooth is not traded for a later one. The noise
-/// scale that bounds the smallest step comes from the first.
+/// little too, so a response that finds the sawtooth is not traded for a later one. The
+/// smallest step searched is half the residual's RMS about the response it is smallest about:
+/// about the fitted response alone it also holds the model's misfit (the modes above a
+/// decimated fit's Nyquist, say), which would put the floor above a lattice the noise leaves
+/// plain. The tests' bars were calibrated from half the true noise σ (`examples/lattice_null.rs`),
+/// no higher than this floor.
 pub fn detect_about(values: &[f64], responses: &[&[f64]], thresholds: Thresholds) -> Option<Lattice> {
-    let fitted: &[f64] = responses.first()?;
     let n = values.len().max(1) as f64;
-    let residual_variance = values.iter().zip(fitted).map(|(y, x)| (y - x).powi(2)).sum::<f64>() / n;
+    let variances: Vec<f64> = responses
+        .iter()
+        .map(|r| values.iter().zip(r.iter()).map(|(y, x)| (y - x).powi(2)).sum::<f64>() / n)
+        .collect();
+    let residual_variance = *variances.first()?;
     if let Some((step, levels)) = exact(values, 10) {
         let noise = (residual_variance - step * step / 12.0).max(0.0).sqrt();
         return Some(Lattice { step, form: LatticeForm::Exact { levels }, noise });
     }
     let range = values.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let min_step = (0.5 * residual_variance.sqrt()).max(1e-6 * range);
+    let misfit = variances.iter().copied().fold(residual_variance, f64::min);
+    let min_step = (0.5 * misfit.sqrt()).max(1e-6 * range);
     if let Some((step, z, samples, noise)) = blurred(values, min_step, thresholds.blurred) {
         return Some(Lattice { step, form: LatticeForm::Blurred { z, samples }, noise });
     }

@@ -155,9 +155,30 @@ impl Fit {
         mu: &mut f64,
         nu: &mut f64,
     ) -> Option<(Vec<f64>, Evaluation, f64, usize)> {
+        // The set the steps are solved over: `free`, less any parameter on a bound that a step
+        // would push out of the box (see `held_by_step`).
+        let mut reduced: Option<(StepSolver, Vec<usize>)> = None;
         for rejected in 0..60 {
-            let (delta, _) = solver.step(*mu);
-            let trial = project(problem, p, &scatter(&delta, free, p.len()));
+            let (delta, free) = loop {
+                let (solver, free) = reduced.as_ref().map_or((solver, free), |(s, f)| (s, f.as_slice()));
+                let (delta, _) = solver.step(*mu);
+                let outward = held_by_step(problem, p, free, &delta);
+                if outward.is_empty() {
+                    break (delta, free.to_vec());
+                }
+                let kept: Vec<usize> = free.iter().copied().filter(|i| !outward.contains(i)).collect();
+                if kept.is_empty() {
+                    return None;
+                }
+                let solver = StepSolver::from_owned(
+                    columns(&current.sensitivity, &kept),
+                    &current.residual,
+                    self.rank_cutoff,
+                )
+                .ok()?;
+                reduced = Some((solver, kept));
+            };
+            let trial = project(problem, p, &scatter(&delta, &free, p.len()));
             if trial == p {
                 return None;
             }
@@ -186,6 +207,24 @@ impl Fit {
         }
         None
     }
+}
+
+/// The parameters of `free` that sit on a bound and that `step` (solved with them free) would
+/// push out of the box. The active set releases a parameter on a bound when the descent
+/// direction Sᵀr points inward; the Gauss–Newton step, which moves the correlated parameters
+/// together, may still push it outward, and its projection then moves the others as if it had
+/// moved — a poor step the damping rejects until it is tiny. Such a parameter is held and the
+/// step solved for the rest (the subproblem step of an active-set method: Lawson & Hanson 1974,
+/// ch. 23).
+fn held_by_step(problem: &Problem<'_>, p: &[f64], free: &[usize], step: &[f64]) -> Vec<usize> {
+    free.iter()
+        .zip(step)
+        .filter(|&(&i, &d)| {
+            let q = &problem.parameters[i];
+            (p[i] <= q.lower && d < 0.0) || (p[i] >= q.upper && d > 0.0)
+        })
+        .map(|(&i, _)| i)
+        .collect()
 }
 
 /// ‖r‖² − ‖r − SΔP‖² for the step to `trial`: the decrease the linear model predicts.
