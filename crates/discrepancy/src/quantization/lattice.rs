@@ -274,7 +274,7 @@ mod tests {
             .collect();
         let bars = Thresholds { blurred: 8.0, sawtooth: 8.0 };
         let alone = detect_about(&readings, &[&slow], bars);
-        assert!(alone.is_none(), "{alone:?}");
+        assert!(alone.is_none(), "about the fit alone the search starts above the step: {alone:?}");
         let lattice = detect_about(&readings, &[&slow, &exact_response], bars).expect("the lattice");
         assert!((lattice.step / step - 1.0).abs() < 0.01, "{}", lattice.step);
         assert!(matches!(lattice.form, LatticeForm::Blurred { .. }));
