@@ -89,18 +89,6 @@ pub(super) fn refit(
     refit_to(model, data, free, sample_weights, iterations, Precision::Evidence)
 }
 
-/// [`refit`] by the measurement model's likelihood (`under`) instead of the RMS-weighted error.
-fn refit_under(
-    model: &Model,
-    data: &Measurement,
-    free: &[String],
-    sample_weights: Option<&[f64]>,
-    iterations: usize,
-    under: &LikelihoodFit,
-) -> Result<FitOutcome, WorkflowError> {
-    fit_by(model, data, free, sample_weights, iterations, Precision::Evidence, Some(under))
-}
-
 /// [`refit`] to a chosen [`Precision`].
 pub(super) fn refit_to(
     model: &Model,
@@ -113,7 +101,8 @@ pub(super) fn refit_to(
     fit_by(model, data, free, sample_weights, iterations, precision, None)
 }
 
-/// The one refit every path above makes: the RMS-weighted error, or the likelihood `under`.
+/// The one refit every path makes: the RMS-weighted error, or the likelihood `under` (the held-out
+/// refits, [`held_out`]).
 fn fit_by(
     model: &Model,
     data: &Measurement,
@@ -380,7 +369,9 @@ pub fn held_out(
 ) -> Result<Mat<f64>, WorkflowError> {
     let train = &folds.weights[fold];
     let outcome = match from {
-        HeldOut::Reference(model) => refit_under(model, data, free, Some(train), HELD_OUT_ITERATIONS, under)?,
+        HeldOut::Reference(model) => {
+            fit_by(model, data, free, Some(train), HELD_OUT_ITERATIONS, Precision::Evidence, Some(under))?
+        }
         HeldOut::Candidate(trial, fitted) => {
             // The full refit's model carries its trial's bounds (a resonance's range as it
             // was last moved).
@@ -389,7 +380,7 @@ pub fn held_out(
                 None => return Err(WorkflowError::Unscored(trial.label.clone())),
             };
             let free = names(free, trial.freed.iter().cloned());
-            refit_under(&model, data, &free, Some(train), HELD_OUT_ITERATIONS, under)?
+            fit_by(&model, data, &free, Some(train), HELD_OUT_ITERATIONS, Precision::Evidence, Some(under))?
         }
     };
     Ok(outcome.first().residual())
