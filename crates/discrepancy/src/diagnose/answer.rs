@@ -206,9 +206,9 @@ pub enum Verdict {
     NotPredictive,
     /// It predicts better, but leaves the reference residual's predictable structure nearly as
     /// it was (it removes less than [`super::min_structure_explained`] of its kind: a tenth, a
-    /// cubic stiffness less than [`super::MIN_SPRING_STRUCTURE_EXPLAINED`], an unmodeled mode
-    /// less than [`super::MIN_MODE_STRUCTURE_EXPLAINED`]): it shaves a misfit rather than
-    /// explaining it.
+    /// cubic stiffness less than [`super::MIN_SPRING_STRUCTURE_EXPLAINED`] and an unmodeled
+    /// mode less than [`super::MIN_MODE_STRUCTURE_EXPLAINED`], half): it shaves a misfit rather
+    /// than explaining it.
     Superficial,
     /// A sensor effect that predicts better but leaves most of the structure on the one output
     /// it acts on (it removes less than [`super::MIN_SENSOR_STRUCTURE_EXPLAINED`] of it): what
