@@ -266,6 +266,32 @@ fn a_fading_torque_constant_is_not_named_a_spring() {
     assert_eq!(spring.verdict, discrepancy::Verdict::Superficial, "{:?}", d.answer());
 }
 
+/// A lighter fade of the torque constant, K_t·(1 − 0.15 t/30 s), on a lightly damped servo
+/// (C_v 0.08, K_p 8.5), released from 0.6 rad, read at 12.8 Hz (`slewing_torque_fade_light`,
+/// the independent truth plant). The hardening spring that takes it up removes more than half
+/// of the structure, so the structure bar lets it through; but refitted with a stiffness that
+/// changes with time beside it and a quintic, k₁′·t·θ is demanded: the servo's stiffness
+/// k_s = G K_p K_t/R_a = 0.426 N·m/rad loses 0.15 of itself over 30 s, k₁′ = −0.00213 N·m/(rad·s).
+/// Before the hub spring's form was tested, `cubic_stiffness` was named here.
+#[test]
+fn a_fading_torque_constant_is_found_to_change_with_time() {
+    let d = decimated_fixture_from("slewing_torque_fade_light", |t| {
+        t.replace("hub_angle: 0.5,", "hub_angle: 0.6,")
+    });
+    assert_ne!(d.effect(), "cubic_stiffness", "{:?}", d.answer());
+    let spring = d.candidates.iter().find(|c| c.label == "cubic_stiffness").expect("the spring was tried");
+    assert_eq!(spring.verdict, discrepancy::Verdict::TimeVarying, "{:?}", d.answer());
+    let form = d.spring.as_ref().expect("the hub spring's form was tested");
+    assert!(form.asymmetric.is_none(), "a hub spring is not tested for asymmetry: {form:?}");
+    let rate = &form.changing;
+    assert_eq!(rate.parameter.name, "stiffness_rate");
+    let se = rate.parameter.std_error.expect("determined");
+    let truth = -0.15 * 1.8204 * 8.5 * 0.05508 / 2.0 / 30.0;
+    assert!(rate.demanded && rate.parameter.value.abs() > 3.0 * se, "{rate:?}");
+    assert!((rate.parameter.value / truth - 1.0).abs() < 0.3, "k₁′ {} against {truth}", rate.parameter.value);
+    assert!(d.answer().iter().any(|s| s.contains("changes with time")), "{:?}", d.answer());
+}
+
 /// Two effects that act alike, from the study's independent truth plant
 /// (`fixtures/independent/slewing_hub_torques.py`): a softening spring at the hub (+0.06 θ³) and
 /// the armature current clamped at 98 % or at 95 % of the demand at θ(0) = 0.5 rad. Both take

@@ -114,8 +114,9 @@ fn a_hardening_storey_spring_is_a_cubic_spring_at_its_floor() {
     // The truth's spring (k₃q³ + k₅q⁵) is symmetric: the asymmetric part tried beside it is not
     // demanded.
     let form = d.spring.as_ref().expect("a named cubic's form is tested");
-    assert_eq!(form.asymmetric.parameter.name, "quadratic_q1");
-    assert!(!form.asymmetric.demanded, "{form:?}");
+    let asymmetric = form.asymmetric.as_ref().expect("a structure's spring is tested for asymmetry");
+    assert_eq!(asymmetric.parameter.name, "quadratic_q1");
+    assert!(!asymmetric.demanded, "{form:?}");
     // Its stiffness changes with amplitude, not with time: a rate beside it is not demanded.
     assert_eq!(form.changing.parameter.name, "stiffness_rate_q1");
     assert!(!form.changing.demanded, "{form:?}");
@@ -131,7 +132,7 @@ fn a_one_sided_stop_is_not_named_a_symmetric_spring() {
     assert!(d.named().is_none(), "{:?}", d.answer());
     let c = d.candidates.iter().find(|c| c.verdict == Verdict::Asymmetric).expect("an asymmetric spring");
     assert_eq!(c.label, "cubic_stiffness(q3)");
-    let a = &d.spring.as_ref().expect("tested").asymmetric;
+    let a = d.spring.as_ref().and_then(|f| f.asymmetric.as_ref()).expect("tested");
     let se = a.parameter.std_error.expect("determined");
     assert!(a.demanded && a.parameter.value > 3.0 * se && a.gain > 10.0, "{a:?}");
     assert!(d.answer().iter().any(|s| s.contains("stiffer on one side")), "{:?}", d.answer());

@@ -129,13 +129,13 @@ impl NonlinearResponse {
         let linear = Linear::of(&real);
         let derivatives: Vec<Linear> = seeded.iter().map(Linear::of_eps).collect();
         let nonlinear = !real.is_linear();
-        let rhs = |x: &[f64], _p: &[f64], _t: f64, y: &mut [f64]| {
+        let rhs = |x: &[f64], _p: &[f64], t: f64, y: &mut [f64]| {
             if evaluations.fetch_add(1, std::sync::atomic::Ordering::Relaxed) > RHS_BUDGET {
                 y.iter_mut().for_each(|v| *v = REJECT);
             } else {
                 linear.apply(x, y);
                 if nonlinear {
-                    let (servo, hub) = real.torques(x);
+                    let (servo, hub) = real.torques(t, x);
                     linear.add_torques(servo, hub, y);
                 }
                 sanitize(y);
@@ -148,34 +148,35 @@ impl NonlinearResponse {
         let acts: Vec<bool> =
             seeded.iter().map(|d| d.torque_constants().iter().any(|c| c.eps != 0.0)).collect();
         let cache = std::cell::RefCell::new(TorqueCache::new(n, j, torque_states.len()));
-        let update = |cache: &mut TorqueCache, x: &[f64]| {
-            if cache.valid && cache.x == x {
+        let update = |cache: &mut TorqueCache, t: f64, x: &[f64]| {
+            if cache.valid && cache.t == t && cache.x == x {
                 return;
             }
             cache.x.copy_from_slice(x);
+            cache.t = t;
             cache.valid = true;
-            cache.value = real.torques(x);
+            cache.value = real.torques(t, x);
             let mut xd: Vec<Dual64> = x.iter().map(|a| Dual64::from(*a)).collect();
             for (g, &k) in cache.gradient.iter_mut().zip(&torque_states) {
                 xd[k].eps = 1.0;
-                let (servo, hub) = lifted.torques(&xd);
+                let (servo, hub) = lifted.torques(t, &xd);
                 xd[k].eps = 0.0;
                 *g = (k, servo.eps, hub.eps);
             }
             for (i, dynamics) in seeded.iter().enumerate() {
                 cache.by_parameter[i] = if acts[i] {
-                    let (servo, hub) = dynamics.torques(&xd);
+                    let (servo, hub) = dynamics.torques(t, &xd);
                     (servo.eps, hub.eps)
                 } else {
                     (0.0, 0.0)
                 };
             }
         };
-        let jac = |x: &[f64], _p: &[f64], _t: f64, v: &[f64], y: &mut [f64]| {
+        let jac = |x: &[f64], _p: &[f64], t: f64, v: &[f64], y: &mut [f64]| {
             linear.apply(v, y);
             if nonlinear {
                 let mut cache = cache.borrow_mut();
-                update(&mut cache, x);
+                update(&mut cache, t, x);
                 let (servo, hub) = cache
                     .gradient
                     .iter()
@@ -184,11 +185,11 @@ impl NonlinearResponse {
             }
             sanitize(y);
         };
-        let sens = |x: &[f64], _p: &[f64], _t: f64, v: &[f64], y: &mut [f64]| {
+        let sens = |x: &[f64], _p: &[f64], t: f64, v: &[f64], y: &mut [f64]| {
             y.iter_mut().for_each(|yi| *yi = 0.0);
             let mut cache = cache.borrow_mut();
             if nonlinear {
-                update(&mut cache, x);
+                update(&mut cache, t, x);
             }
             let torques = cache.value;
             let mut term = std::mem::take(&mut cache.term);
@@ -315,6 +316,7 @@ impl NonlinearResponse {
 /// The torques at one state, their state gradient and parameter derivatives.
 struct TorqueCache {
     x: Vec<f64>,
+    t: f64,
     valid: bool,
     value: (f64, f64),
     gradient: Vec<(usize, f64, f64)>,
@@ -326,6 +328,7 @@ impl TorqueCache {
     fn new(n: usize, j: usize, states: usize) -> Self {
         Self {
             x: vec![0.0; n],
+            t: 0.0,
             valid: false,
             value: (0.0, 0.0),
             gradient: vec![(0, 0.0, 0.0); states],

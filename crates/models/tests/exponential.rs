@@ -15,7 +15,7 @@ fn with_effects(effects: &str) -> SlewingModel {
 
 /// Every nonlinear effect of the catalog, at strengths that visibly change the response, sharp
 /// friction included.
-const CASES: [(&str, &[&str]); 10] = [
+const CASES: [(&str, &[&str]); 11] = [
     ("AmplifierSaturation(current_limit: 1.2, sharp: false)", &["cv", "kp", "current_limit"]),
     ("VoltageSaturation(voltage_limit: 2.5, sharp: false)", &["cv", "kp", "voltage_limit"]),
     ("VoltageSaturation(voltage_limit: 4.0, knee: Some(2.0))", &["cv", "voltage_limit", "voltage_knee"]),
@@ -32,6 +32,10 @@ const CASES: [(&str, &[&str]); 10] = [
     (
         "CubicStiffness(coefficient: -0.2, linear: Some(0.02)), TimeDelay(delay: 0.05)",
         &["kp", "cubic_stiffness", "hub_stiffness", "delay", "modal_damping_1"],
+    ),
+    (
+        "CubicStiffness(coefficient: 0.3, quintic: Some(-0.5), rate: Some(0.004))",
+        &["kp", "cubic_stiffness", "quintic_stiffness", "stiffness_rate"],
     ),
     (
         "UnmodeledMode(frequency_hz: 0.8, damping_ratio: 0.02, coupling: 0.1), AmplifierSaturation(current_limit: 1.5, sharp: false)",
@@ -186,6 +190,11 @@ fn a_hub_spring_without_its_cubic_part_takes_the_exact_path() {
     assert!(model.is_linear_for(&[id("cv"), id("kp"), id("hub_stiffness")]));
     assert!(!model.is_linear_for(&[id("cv"), id("hub_stiffness"), id("cubic_stiffness")]));
     assert!(!with_effects("CubicStiffness(coefficient: 0.5)").is_linear_for(&[id("cv")]));
+    // A quintic or time-varying part, even fixed, is not linear time-invariant physics.
+    for form in ["quintic: Some(1.0)", "rate: Some(0.001)"] {
+        let m = with_effects(&format!("CubicStiffness(coefficient: 0.0, {form})"));
+        assert!(!m.is_linear_for(&[id("cv")]), "{form}");
+    }
     let names = ["cv", "kp", "hub_stiffness"];
     let p: Vec<f64> = names.iter().map(|n| model.get(id(n))).collect();
     let (k, h) = (1281, 1.0 / 128.0);

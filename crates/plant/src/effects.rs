@@ -11,7 +11,7 @@
 //! | `VoltageSaturation` | `voltage_limit` \[V\], optional `voltage_knee` n | amplifier output e_a = sat(G K_p(θ_ref − θ)); the back-EMF still acts |
 //! | `CoulombFriction` | `coulomb_torque` \[N·m\], optional `static_peak` ΔF \[N·m\] and `stribeck_velocity` v_st \[rad/s\] | τ = −(F_c + ΔF e^{−(θ̇/v_st)²}) tanh(θ̇/v_s), v_s fixed smoothing velocity: dry friction, with a static peak that falls to the Coulomb level over v_st (Stribeck; Armstrong-Hélouvry, Dupont & Canudas de Wit 1994) when given |
 //! | `QuadraticDrag` | `drag_hub` \[N·m·(s/rad)ᵖ\], optional `drag_exponent` p | τ = −c_d \|θ̇\|ᵖ sign θ̇ (p = 2 unless given: air drag, the paper's ref. 10) |
-//! | `CubicStiffness` | `cubic_stiffness` \[N·m/rad³\], optional `hub_stiffness` k₁ \[N·m/rad\] | τ = −k₁θ − k₃θ³ on the hub (hardening for k₃ > 0, softening for k₃ < 0; k₁ = 0 unless given) |
+//! | `CubicStiffness` | `cubic_stiffness` \[N·m/rad³\], optional `hub_stiffness` k₁ \[N·m/rad\], `quintic_stiffness` k₅ \[N·m/rad⁵\] and `stiffness_rate` k₁′ \[N·m/(rad·s)\] | τ = −(k₁ + k₁′t)θ − k₃θ³ − k₅θ⁵ on the hub (hardening for k₃ > 0, softening for k₃ < 0; k₁, k₁′, k₅ = 0 unless given; k₅ and k₁′ are the terms the diagnosis tests a named spring's form with) |
 //! | `TimeDelay` | `delay` \[s\] | feedback sees θ(t − τ), Padé(1,1): θ_d = −θ + w, ẇ = (2/τ)(2θ − w) |
 //! | `UnmodeledMode` | `extra_mode_frequency` \[Hz\], `extra_mode_damping`, `extra_mode_coupling` \[√kg·m\], optional `extra_mode_stiffness_coupling` \[N·m/√kg\], optional `extra_mode_damping_coupling` \[N·m·s/√kg\] | a mass-normalised mode η: η̈ + 2ζωη̇ + ω²η coupled to the hub through M (and K, and D) |
 //! | `Backlash` | `backlash` \[rad\], `gear_frequency` \[Hz\] | the motor is a body of its own (I_m), joined to the hub by a gear of stiffness k_g = I_m(2πf_g)² and damping 2ζ_g I_m 2πf_g with a dead band of total width b: τ_g = k_g dz_b(θ_m − θ) + c_g(θ̇_m − θ̇); the servo, C_v and the back-EMF act on the motor, the potentiometer reads the hub, the tachometer the motor (or the hub) |
@@ -178,6 +178,15 @@ pub enum Effect<D = f64> {
         /// (Γ), a hub spring's does not.
         #[serde(default)]
         linear: Option<D>,
+        /// k₅ \[N·m/rad⁵\]: a symmetric refinement of the spring's form, −k₅θ⁵ (0 when absent);
+        /// a parameter (`quintic_stiffness`) when given.
+        #[serde(default)]
+        quintic: Option<D>,
+        /// k₁′ \[N·m/(rad·s)\]: a linear stiffness that grows at this rate over the record,
+        /// −k₁′·t·θ with t from the release (0 when absent): a stiffness that changes with time,
+        /// not with amplitude; a parameter (`stiffness_rate`) when given.
+        #[serde(default)]
+        rate: Option<D>,
     },
     /// A dead band in the gear between the motor and the hub (backlash).
     ///
@@ -333,9 +342,12 @@ impl<D> Effect<D> {
             Effect::QuadraticDrag { hub, exponent } => {
                 Effect::QuadraticDrag { hub: f(hub), exponent: exponent.as_ref().map(&f) }
             }
-            Effect::CubicStiffness { coefficient, linear } => {
-                Effect::CubicStiffness { coefficient: f(coefficient), linear: linear.as_ref().map(&f) }
-            }
+            Effect::CubicStiffness { coefficient, linear, quintic, rate } => Effect::CubicStiffness {
+                coefficient: f(coefficient),
+                linear: linear.as_ref().map(&f),
+                quintic: quintic.as_ref().map(&f),
+                rate: rate.as_ref().map(&f),
+            },
             Effect::Backlash { dead_band, gear_frequency_hz, gear_damping_ratio, tachometer_on_motor } => {
                 Effect::Backlash {
                     dead_band: f(dead_band),

@@ -118,12 +118,16 @@ impl SlewingModel {
 
     /// Whether the model is linear with `free` the parameters that may move: no nonlinear
     /// effect but, perhaps, a hub spring whose cubic part is zero and stays so (its
-    /// `cubic_stiffness` not in `free`), leaving its linear part k₁θ, which is in A
-    /// ([`crate::assemble::second_order`]). The exact exponential path then applies.
+    /// `cubic_stiffness` not in `free`), with no quintic or time-varying part, leaving its
+    /// linear part k₁θ, which is in A ([`crate::assemble::second_order`]). The exact exponential
+    /// path then applies.
     pub fn is_linear_for(&self, free: &[ParamId]) -> bool {
         self.constants.effects.iter().all(|e| match e {
-            Effect::CubicStiffness { coefficient, .. } => {
-                *coefficient == 0.0 && !free.contains(&ParamId::CubicStiffness)
+            Effect::CubicStiffness { coefficient, quintic, rate, .. } => {
+                *coefficient == 0.0
+                    && !free.contains(&ParamId::CubicStiffness)
+                    && quintic.is_none()
+                    && rate.is_none()
             }
             e => !e.is_nonlinear(),
         })

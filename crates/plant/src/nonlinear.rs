@@ -6,7 +6,7 @@
 //!   −k_s θ_c − (K_bK_t/R_a) θ̇, so Δτ_s = K_t i − (−k_s θ_c − K_bK_t/R_a θ̇) enters through the
 //!   servo direction [1, Γ_1, …] (θ_c is θ, or the delayed θ_d with a time delay).
 //! * Dry friction, drag and a cubic stiffness are hub torques
-//!   τ_h = −(F_c + ΔF e^{−(θ̇/v_st)²}) tanh(θ̇/v_s) − c_d|θ̇|ᵖ sign θ̇ − k₃θ³ (ΔF = 0 unless a
+//!   τ_h = −(F_c + ΔF e^{−(θ̇/v_st)²}) tanh(θ̇/v_s) − c_d|θ̇|ᵖ sign θ̇ − k₃θ³ − k₅θ⁵ − k₁′tθ (ΔF = 0 unless a
 //!   static peak is given, the Stribeck form of Armstrong-Hélouvry, Dupont & Canudas de Wit,
 //!   Automatica 30(7), 1994; a hub spring's linear part k₁θ is in A,
 //!   [`crate::assemble::second_order`]).
@@ -40,6 +40,8 @@ pub struct Dynamics<D: Scalar> {
     drag: Option<(D, Option<D>)>,
     /// k₃ of a hub spring (its linear part is in A).
     cubic: Option<D>,
+    /// k₅ and k₁′ of a hub spring, when given (−k₅θ⁵ − k₁′·t·θ).
+    spring_form: (Option<D>, Option<D>),
     /// Backlash: k_g and half the dead band.
     backlash: Option<(D, D)>,
     amplifier_voltage_gain: D,
@@ -106,6 +108,7 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
     let mut coulomb = None;
     let mut drag = None;
     let mut cubic = None;
+    let mut spring_form = (None, None);
     let mut backlash = None;
     for e in &c.effects {
         match e {
@@ -121,7 +124,10 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
                     Some(Friction { torque: *torque, smoothing_velocity: *smoothing_velocity, stribeck })
             }
             Effect::QuadraticDrag { hub, exponent } => drag = Some((*hub, *exponent)),
-            Effect::CubicStiffness { coefficient, .. } => cubic = Some(*coefficient),
+            Effect::CubicStiffness { coefficient, quintic, rate, .. } => {
+                cubic = Some(*coefficient);
+                spring_form = (*quintic, *rate);
+            }
             Effect::Backlash { dead_band, .. } => {
                 let (kg, _) = crate::assemble::gear(c).expect("a backlash effect has a gear");
                 backlash = Some((kg, *dead_band * D::from(0.5)));
@@ -140,6 +146,7 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
         coulomb,
         drag,
         cubic,
+        spring_form,
         backlash,
         amplifier_voltage_gain: c.amplifier_gain * c.position_gain,
         armature_resistance: c.armature_resistance,
@@ -239,14 +246,17 @@ impl<D: Scalar> Dynamics<D> {
             out.extend(p);
         }
         out.extend(self.cubic);
+        out.extend(self.spring_form.0);
+        out.extend(self.spring_form.1);
         if let Some((kg, half)) = self.backlash {
             out.extend([kg, half]);
         }
         out
     }
 
-    /// The nonlinear torques (Δτ_s, τ_h) at state x.
-    pub fn torques(&self, x: &[D]) -> (D, D) {
+    /// The nonlinear torques (Δτ_s, τ_h) at state x and time t from the release (only a hub
+    /// spring's `stiffness_rate` depends on t).
+    pub fn torques(&self, t: f64, x: &[D]) -> (D, D) {
         let zero = D::from(0.0);
         let theta = x[0];
         let rate = x[self.layout.n_dof];
@@ -293,11 +303,18 @@ impl<D: Scalar> Dynamics<D> {
         if let Some(k3) = self.cubic {
             hub -= k3 * theta * theta * theta;
         }
+        if let Some(k5) = self.spring_form.0 {
+            let square = theta * theta;
+            hub -= k5 * square * square * theta;
+        }
+        if let Some(rate) = self.spring_form.1 {
+            hub -= rate * D::from(t) * theta;
+        }
         (servo, hub)
     }
 
-    /// ẋ = f(x) into `out`.
-    pub fn rhs(&self, x: &[D], out: &mut [D]) {
+    /// ẋ = f(t, x) into `out`.
+    pub fn rhs(&self, t: f64, x: &[D], out: &mut [D]) {
         let n = self.layout.n_states;
         for i in 0..n {
             let mut acc = D::from(0.0);
@@ -307,7 +324,7 @@ impl<D: Scalar> Dynamics<D> {
             out[i] = acc;
         }
         if !self.is_linear() {
-            let (servo, hub) = self.torques(x);
+            let (servo, hub) = self.torques(t, x);
             for i in 0..n {
                 out[i] += self.servo_input[i] * servo + self.hub_input[i] * hub;
             }

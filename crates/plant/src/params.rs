@@ -95,6 +95,10 @@ pub enum ParamId {
     CubicStiffness,
     /// `hub_stiffness` of `CubicStiffness` (when given): its linear part.
     HubStiffness,
+    /// `quintic_stiffness` of `CubicStiffness` (when given): k₅ of −k₅θ⁵.
+    QuinticStiffness,
+    /// `stiffness_rate` of `CubicStiffness` (when given): k₁′ of −k₁′·t·θ.
+    StiffnessRate,
     /// `extra_mode_stiffness_coupling` of `UnmodeledMode` (when given).
     ExtraModeStiffnessCoupling,
     /// `extra_mode_damping_coupling` of `UnmodeledMode` (when given).
@@ -146,7 +150,7 @@ const CORE: [(&str, ParamId, &str); 13] = [
     ("amplifier_gain", ParamId::AmplifierGain, "motor.amplifier_gain"),
 ];
 
-const EFFECT_PARAMS: [(&str, ParamId, &str); 19] = [
+const EFFECT_PARAMS: [(&str, ParamId, &str); 21] = [
     ("backlash", ParamId::Backlash, "dead_band"),
     ("gear_frequency", ParamId::GearFrequency, "gear_frequency_hz"),
     ("current_limit", ParamId::CurrentLimit, "current_limit"),
@@ -154,6 +158,8 @@ const EFFECT_PARAMS: [(&str, ParamId, &str); 19] = [
     ("drag_exponent", ParamId::DragExponent, "exponent"),
     ("cubic_stiffness", ParamId::CubicStiffness, "coefficient"),
     ("hub_stiffness", ParamId::HubStiffness, "linear"),
+    ("quintic_stiffness", ParamId::QuinticStiffness, "quintic"),
+    ("stiffness_rate", ParamId::StiffnessRate, "rate"),
     ("extra_mode_stiffness_coupling", ParamId::ExtraModeStiffnessCoupling, "stiffness_coupling"),
     ("extra_mode_damping_coupling", ParamId::ExtraModeDampingCoupling, "damping_coupling"),
     ("current_knee", ParamId::CurrentKnee, "knee"),
@@ -231,6 +237,8 @@ impl ParamId {
             | ParamId::Drift(_)
             | ParamId::CubicStiffness
             | ParamId::HubStiffness
+            | ParamId::QuinticStiffness
+            | ParamId::StiffnessRate
             | ParamId::ExtraModeCoupling
             | ParamId::ExtraModeStiffnessCoupling
             | ParamId::ExtraModeDampingCoupling => SignRule::Any,
@@ -300,10 +308,16 @@ impl ParamId {
                 }
                 ids
             }
-            Effect::CubicStiffness { linear, .. } => {
+            Effect::CubicStiffness { linear, quintic, rate, .. } => {
                 let mut ids = vec![ParamId::CubicStiffness];
                 if linear.is_some() {
                     ids.push(ParamId::HubStiffness);
+                }
+                if quintic.is_some() {
+                    ids.push(ParamId::QuinticStiffness);
+                }
+                if rate.is_some() {
+                    ids.push(ParamId::StiffnessRate);
                 }
                 ids
             }
@@ -385,6 +399,8 @@ macro_rules! effect_field {
             (Effect::QuadraticDrag { exponent: Some(p), .. }, ParamId::DragExponent) => Some(p),
             (Effect::CubicStiffness { coefficient, .. }, ParamId::CubicStiffness) => Some(coefficient),
             (Effect::CubicStiffness { linear: Some(k), .. }, ParamId::HubStiffness) => Some(k),
+            (Effect::CubicStiffness { quintic: Some(k), .. }, ParamId::QuinticStiffness) => Some(k),
+            (Effect::CubicStiffness { rate: Some(k), .. }, ParamId::StiffnessRate) => Some(k),
             (Effect::TimeDelay { delay }, ParamId::Delay) => Some(delay),
             (Effect::Backlash { dead_band, .. }, ParamId::Backlash) => Some(dead_band),
             (Effect::Backlash { gear_frequency_hz, .. }, ParamId::GearFrequency) => Some(gear_frequency_hz),

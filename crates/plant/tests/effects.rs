@@ -69,7 +69,7 @@ fn new_nonlinear_effects_reduce_to_known_forms() {
     let x: Vec<f64> = (0..a.nrows()).map(|i| 0.3 * (i as f64 + 1.0).sin()).collect();
     let rhs = |m: &SlewingModel| {
         let mut f = vec![0.0; x.len()];
-        m.dynamics_with(|v| *v).unwrap().rhs(&x, &mut f);
+        m.dynamics_with(|v| *v).unwrap().rhs(0.0, &x, &mut f);
         f
     };
     let (fl, fq, fp) = (rhs(&linear), rhs(&quadratic), rhs(&power));
@@ -97,6 +97,24 @@ fn new_nonlinear_effects_reduce_to_known_forms() {
     }
     assert!(linear.parameter("hub_stiffness").is_ok(), "a parameter when given");
     assert!(cubic.parameter("hub_stiffness").is_err(), "not one when absent");
+    // The form's refinements: k₅θ⁵ at θ is the cubic with k₃ = k₅θ², and k₁′·t·θ at time t is
+    // the linear part k₁ = k₁′t, which at t = 0 is nothing.
+    let k5 = 2.0 / (x[0] * x[0]);
+    let quintic = with_effects(&format!("CubicStiffness(coefficient: 0.0, quintic: Some({k5:e}))"));
+    let rate = with_effects("CubicStiffness(coefficient: 0.0, rate: Some(0.05))");
+    let at = |m: &SlewingModel, t: f64| {
+        let mut f = vec![0.0; x.len()];
+        m.dynamics_with(|v| *v).unwrap().rhs(t, &x, &mut f);
+        f
+    };
+    let (f5, f_late, f_start) = (rhs(&quintic), at(&rate, 2.0 * x[0] * x[0] / 0.05), at(&rate, 0.0));
+    for i in 0..x.len() {
+        assert!((f5[i] - fc[i]).abs() < 1e-12 * (1.0 + fc[i].abs()), "quintic row {i}");
+        assert!((f_late[i] - f1[i]).abs() < 1e-12 * (1.0 + f1[i].abs()), "rate row {i}");
+        assert!((f_start[i] - fb[i]).abs() < 1e-12 * (1.0 + fb[i].abs()), "rate at release, row {i}");
+    }
+    assert!(quintic.parameter("quintic_stiffness").is_ok() && rate.parameter("stiffness_rate").is_ok());
+    assert!(cubic.parameter("stiffness_rate").is_err(), "not one when absent");
 }
 
 #[test]
@@ -109,7 +127,7 @@ fn nonlinear_effects_reduce_to_the_linear_model_in_their_limits() {
     let a = m.state_space().unwrap().a;
     let x: Vec<f64> = (0..m.n_states()).map(|i| 0.3 * (i as f64 + 1.0).sin()).collect();
     let mut f = vec![0.0; x.len()];
-    dynamics.rhs(&x, &mut f);
+    dynamics.rhs(0.0, &x, &mut f);
     for i in 0..x.len() {
         let linear: f64 = (0..x.len()).map(|j| a[(i, j)] * x[j]).sum();
         assert!((f[i] - linear).abs() < 1e-12 * (1.0 + linear.abs()), "row {i}: {} vs {linear}", f[i]);
@@ -141,7 +159,7 @@ fn a_static_peak_raises_the_friction_near_rest_and_fades_above_the_stribeck_velo
         x[hub_rate] = v;
         let rhs = |m: &SlewingModel| {
             let mut f = vec![0.0; n];
-            m.dynamics_with(|v| *v).unwrap().rhs(&x, &mut f);
+            m.dynamics_with(|v| *v).unwrap().rhs(0.0, &x, &mut f);
             f
         };
         let (fl, fcoul, fs) = (rhs(&paper), rhs(&coulomb), rhs(&stribeck));
@@ -377,7 +395,7 @@ fn backlash_passes_no_torque_inside_its_band_and_the_gear_beyond_it() {
         x[0] = 0.1;
         x[layout.motor.unwrap()] = 0.1 + ahead;
         let mut out = vec![0.0; layout.n_states];
-        m.dynamics_with(|v| *v).unwrap().rhs(&x, &mut out);
+        m.dynamics_with(|v| *v).unwrap().rhs(0.0, &x, &mut out);
         out
     };
     let close = |a: &[f64], b: &[f64], tolerance: f64| {

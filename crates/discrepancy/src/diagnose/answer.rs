@@ -107,17 +107,19 @@ pub struct SpringTerm {
     pub demanded: bool,
 }
 
-/// The form of a named symmetric spring (a structure's `cubic_stiffness` at coordinate c),
-/// tested beside it (step 8 of [module `diagnose`](mod@crate::diagnose)). When the data demand
-/// either term, the spring stands for physics the catalog does not hold, and nothing is named.
+/// The form of a named symmetric spring (a structure's `cubic_stiffness` at coordinate c, or
+/// the slewing rig's at the hub), tested beside it (step 8 of
+/// [module `diagnose`](mod@crate::diagnose)). When the data demand either term, the spring
+/// stands for physics the catalog does not hold, and nothing is named.
 #[derive(Clone, Debug, Serialize)]
 pub struct SpringForm {
     /// Its asymmetric part k₂q_c²: demanded, the restoring force is stiffer on one side than the
-    /// other (a stop, a contact, a gap that closes one way; [`Verdict::Asymmetric`]).
-    pub asymmetric: SpringTerm,
+    /// other (a stop, a contact, a gap that closes one way; [`Verdict::Asymmetric`]). Not tested
+    /// (`None`) for the slewing rig's hub spring, whose free decay stays on one side of zero.
+    pub asymmetric: Option<SpringTerm>,
     /// A linear stiffness that changes with time, k₁′·t·q_c: demanded, the stiffness changes
-    /// during the record (a storey that degrades) rather than with amplitude
-    /// ([`Verdict::TimeVarying`]).
+    /// during the record (a storey that degrades, a motor's torque constant that fades) rather
+    /// than with amplitude ([`Verdict::TimeVarying`]).
     pub changing: SpringTerm,
 }
 

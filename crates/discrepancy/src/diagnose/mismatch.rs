@@ -160,7 +160,13 @@ pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
                     name: ParamId::HubStiffness.name(),
                     bounds: (-servo, servo),
                     adds: Some((
-                        plant::Effect::CubicStiffness { coefficient: 0.0, linear: Some(0.0) }.into(),
+                        plant::Effect::CubicStiffness {
+                            coefficient: 0.0,
+                            linear: Some(0.0),
+                            quintic: None,
+                            rate: None,
+                        }
+                        .into(),
                         AddedTerm::HubSpring,
                     )),
                 });

@@ -30,16 +30,18 @@
 //!    and one parameter that explains as much as an effect of one to three is the simpler
 //!    answer. (For a sensor scale, the parameters that scale its output alone are its exact
 //!    equivalents and reported as such, not tried.)
-//! 8. a symmetric spring (a structure's `cubic_stiffness` at coordinate c) is demanded neither
-//!    to be asymmetric nor to change with time: refitted with k₂q_c² or with k₁′·t·q_c beside
-//!    its k₃q_c³ and a symmetric k₅q_c⁵, neither term is determined while gaining the
-//!    threshold in sample or lying 5 standard errors from zero ([`SpringForm`],
-//!    [`Verdict::Asymmetric`], [`Verdict::TimeVarying`], module `spring`). A stop, a contact
-//!    or a gap on one side is stiffer one way than the other; a storey that degrades changes
-//!    its stiffness with time, which one free decay's falling amplitude lets a hardening
-//!    spring absorb — physics outside the catalog that a symmetric cubic would otherwise stand
-//!    in for; the quintic takes up what a symmetric spring of another form leaves, so that
-//!    only asymmetry, or change with time, is left for the term.
+//! 8. a symmetric spring (a structure's `cubic_stiffness` at coordinate c, or the slewing rig's
+//!    at the hub) is demanded neither to be asymmetric nor to change with time: refitted with
+//!    k₂q_c² or with k₁′·t·q_c beside its k₃q_c³ and a symmetric k₅q_c⁵, neither term is
+//!    determined while gaining the threshold in sample or lying 5 standard errors from zero
+//!    ([`SpringForm`], [`Verdict::Asymmetric`], [`Verdict::TimeVarying`], module `spring`; the
+//!    hub spring, whose free decay stays on one side of zero, for change with time only). A
+//!    stop, a contact or a gap on one side is stiffer one way than the other; a storey that
+//!    degrades, or a motor whose torque constant fades as it warms, changes its stiffness with
+//!    time, which one free decay's falling amplitude lets a hardening spring absorb — physics
+//!    outside the catalog that a symmetric cubic would otherwise stand in for; the quintic
+//!    takes up what a symmetric spring of another form leaves, so that only asymmetry, or
+//!    change with time, is left for the term.
 //!
 //! A named dry friction on the slewing rig is then refitted with a static peak beside it,
 //! τ = −(F_c + ΔF e^{−(θ̇/v_st)²}) tanh(θ̇/v_s) (Stribeck; Armstrong-Hélouvry, Dupont & Canudas de
@@ -339,10 +341,13 @@ pub fn diagnose_observed(
         };
         spring = spring::form(&candidates[i], trial, &test);
         if let Some(form) = &spring {
-            let demanded = [(&form.asymmetric, Verdict::Asymmetric), (&form.changing, Verdict::TimeVarying)]
-                .into_iter()
-                .filter(|(term, _)| term.demanded)
-                .max_by(|(a, _), (b, _)| a.gain.total_cmp(&b.gain));
+            let demanded = [
+                (form.asymmetric.as_ref(), Verdict::Asymmetric),
+                (Some(&form.changing), Verdict::TimeVarying),
+            ]
+            .into_iter()
+            .filter_map(|(term, verdict)| term.filter(|t| t.demanded).map(|t| (t, verdict)))
+            .max_by(|(a, _), (b, _)| a.gain.total_cmp(&b.gain));
             if let Some((_, verdict)) = demanded {
                 candidates[i].verdict = verdict;
                 return None;

@@ -251,9 +251,11 @@ impl Diagnosis {
                             }
                             Verdict::Asymmetric | Verdict::TimeVarying => match &self.spring {
                                 Some(form) => {
-                                    let (term, what, kind) = if best.verdict == Verdict::Asymmetric {
+                                    let asymmetric =
+                                        form.asymmetric.as_ref().filter(|_| best.verdict == Verdict::Asymmetric);
+                                    let (term, what, kind) = if let Some(asymmetric) = asymmetric {
                                         (
-                                            &form.asymmetric,
+                                            asymmetric,
                                             "the restoring force is stiffer on one side than the other: its \
                                              asymmetric part",
                                             "a stop, a contact or a gap that closes one way, which the catalog's \
@@ -264,7 +266,8 @@ impl Diagnosis {
                                             &form.changing,
                                             "its stiffness changes with time in a way a symmetric spring's change \
                                              with amplitude does not follow: a rate",
-                                            "a stiffness that degrades or recovers during the record, or another \
+                                            "a stiffness that degrades or recovers during the record (a joint that \
+                                             loosens, a motor whose torque constant fades as it warms), or another \
                                              change the catalog's symmetric spring does not hold",
                                         )
                                     };
@@ -310,7 +313,7 @@ impl Diagnosis {
             localisation: &self.localisation,
             equivalent_parameters: &self.scale_equivalents,
             rival_mismatches: &self.rivals,
-            asymmetric_spring: self.spring.as_ref().map(|f| &f.asymmetric),
+            asymmetric_spring: self.spring.as_ref().and_then(|f| f.asymmetric.as_ref()),
             changing_spring: self.spring.as_ref().map(|f| &f.changing),
             static_friction_peak: self.static_peak.as_ref(),
             saturation_knee: self.saturation_knee.as_ref(),

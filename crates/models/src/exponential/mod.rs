@@ -68,9 +68,9 @@ struct TorqueModel<'a> {
 }
 
 impl Forcing for TorqueModel<'_> {
-    fn at(&mut self, _t: f64, x: &[f64], with_derivatives: bool, out: &mut Forces) {
-        // The rig's torques do not depend on time.
-        let (servo, hub) = self.real.torques(x);
+    fn at(&mut self, t: f64, x: &[f64], with_derivatives: bool, out: &mut Forces) {
+        // Only a hub spring's stiffness rate depends on time.
+        let (servo, hub) = self.real.torques(t, x);
         out.reset(2, self.seeded.len());
         out.value.copy_from_slice(&[servo, hub]);
         if !with_derivatives {
@@ -81,14 +81,14 @@ impl Forcing for TorqueModel<'_> {
         }
         for &k in &self.states {
             self.scratch[k].eps = 1.0;
-            let (s, h) = self.lifted.torques(&self.scratch);
+            let (s, h) = self.lifted.torques(t, &self.scratch);
             self.scratch[k].eps = 0.0;
             out.states.push(k);
             out.by_state.extend([s.eps, h.eps]);
         }
         for (i, dynamics) in self.seeded.iter().enumerate() {
             if self.acts[i] {
-                let (s, h) = dynamics.torques(&self.scratch);
+                let (s, h) = dynamics.torques(t, &self.scratch);
                 out.by_parameter[2 * i..2 * i + 2].copy_from_slice(&[s.eps, h.eps]);
             }
         }

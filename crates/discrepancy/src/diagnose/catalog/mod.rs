@@ -2,7 +2,7 @@
 //! taken from the model and the data (never from a study's truth) and plausible bounds — for
 //! the slewing rig (`slewing.rs`) and for any structure (`structure.rs`).
 
-mod slewing;
+pub(super) mod slewing;
 pub(super) mod structure;
 
 use crate::localise::Localisation;

@@ -42,6 +42,13 @@ fn scales(model: &SlewingModel) -> Scales {
     }
 }
 
+/// The scales a hub spring's form is bounded in (`spring`): the servo stiffness k_s
+/// \[N·m/rad\] and the release angle θ(0) \[rad\].
+pub(in crate::diagnose) fn spring_scales(model: &SlewingModel) -> (f64, f64) {
+    let s = scales(model);
+    (s.servo_stiffness, s.theta0)
+}
+
 fn trial(
     effect: Effect,
     label: String,
@@ -186,7 +193,12 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
         trial(
             // Hardening and softening starts: a cubic changes the frequency with amplitude, and
             // the position gain can take up part of it from either side of zero.
-            Effect::CubicStiffness { coefficient: 0.05 * s.servo_stiffness / s.theta0.powi(2), linear: None },
+            Effect::CubicStiffness {
+                coefficient: 0.05 * s.servo_stiffness / s.theta0.powi(2),
+                linear: None,
+                quintic: None,
+                rate: None,
+            },
             "cubic_stiffness".into(),
             vec![(
                 ParamId::CubicStiffness,
@@ -197,6 +209,8 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
         .or_from(Effect::CubicStiffness {
             coefficient: -0.05 * s.servo_stiffness / s.theta0.powi(2),
             linear: None,
+            quintic: None,
+            rate: None,
         }),
         trial(
             Effect::TimeDelay { delay: 0.02 },
