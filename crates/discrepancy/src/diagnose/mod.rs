@@ -35,7 +35,8 @@
 //!    k₂q_c² or with k₁′·t·q_c beside its k₃q_c³ and a symmetric k₅q_c⁵, neither term is
 //!    determined while gaining the threshold in sample or lying 5 standard errors from zero
 //!    ([`SpringForm`], [`Verdict::Asymmetric`], [`Verdict::TimeVarying`], module `spring`; the
-//!    hub spring, whose free decay stays on one side of zero, for change with time only). A
+//!    hub spring, whose free decay stays on one side of zero, for a loss of stiffness with time
+//!    only, the change a warming servo shows). A
 //!    stop, a contact or a gap on one side is stiffer one way than the other; a storey that
 //!    degrades, or a motor whose torque constant fades as it warms, changes its stiffness with
 //!    time, which one free decay's falling amplitude lets a hardening spring absorb — physics
