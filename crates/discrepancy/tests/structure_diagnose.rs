@@ -123,19 +123,31 @@ fn a_hardening_storey_spring_is_a_cubic_spring_at_its_floor() {
 }
 
 /// The roof meets a Hertzian stop on one side (f = 9e7 (q3 − 0.0195)^1.5 while q3 > 0.0195 m,
-/// outside the catalog): a symmetric cubic at the roof predicts held out, but the data demand
-/// an asymmetric part beside it and a quintic, stiffer on the side of the stop (k₂ > 0), so
-/// nothing is named.
+/// outside the catalog): a symmetric cubic at the roof predicts held out (over 2000 nats), but
+/// it removes about a third of the reference residual's structure, less than the half a named
+/// spring must ([`discrepancy::diagnose::MIN_SPRING_STRUCTURE_EXPLAINED`]), so it is
+/// `superficial` and nothing is named. (With that bar at 0.3 the spring passed it, and the data
+/// then demanded an asymmetric part k₂q₃² beside it and a quintic, stiffer on the side of the
+/// stop: `asymmetric`. That path, the spring form test's, is no longer reached by this record.)
 #[test]
 fn a_one_sided_stop_is_not_named_a_symmetric_spring() {
     let d = run("contact_q3");
     assert!(d.named().is_none(), "{:?}", d.answer());
-    let c = d.candidates.iter().find(|c| c.verdict == Verdict::Asymmetric).expect("an asymmetric spring");
-    assert_eq!(c.label, "cubic_stiffness(q3)");
-    let a = d.spring.as_ref().and_then(|f| f.asymmetric.as_ref()).expect("tested");
-    let se = a.parameter.std_error.expect("determined");
-    assert!(a.demanded && a.parameter.value > 3.0 * se && a.gain > 10.0, "{a:?}");
-    assert!(d.answer().iter().any(|s| s.contains("stiffer on one side")), "{:?}", d.answer());
+    let c = d.candidates.iter().find(|c| c.label == "cubic_stiffness(q3)").expect("the spring was tried");
+    assert!(c.evidence.held_out.is_some_and(|h| h > 100.0 * d.threshold), "it predicts: {:?}", c.evidence);
+    assert!(
+        matches!(c.verdict, Verdict::Superficial | Verdict::Asymmetric),
+        "set aside for its structure or its form: {:?}",
+        d.answer()
+    );
+    assert!(
+        d.candidates
+            .iter()
+            .filter(|c| c.label.starts_with("cubic_stiffness"))
+            .all(|c| c.verdict != Verdict::Named),
+        "{:?}",
+        d.answer()
+    );
 }
 
 /// The storey-1 spring loses 6 % of its stiffness during the record, k1(t) = k1 (1 − 0.06

@@ -293,8 +293,9 @@ pub struct Diagnosis {
     /// For a named effect, or the one they unseated: the model's parameters that, refitted
     /// alone instead, explain the data as well ([`Rival`]).
     pub rivals: Vec<Rival>,
-    /// For a structure `cubic_stiffness` that was named, or set aside as [`Verdict::Asymmetric`]
-    /// or [`Verdict::TimeVarying`]: its form tested beside it ([`SpringForm`]). `None` otherwise,
+    /// For a `cubic_stiffness` (a structure's, or the slewing rig's hub spring) that was named,
+    /// or set aside as [`Verdict::Asymmetric`] or [`Verdict::TimeVarying`]: its form tested
+    /// beside it ([`SpringForm`]). `None` otherwise,
     /// also when a rival unseated the spring first (the test is not run then).
     pub spring: Option<SpringForm>,
     /// For a named `coulomb_friction` on the slewing rig: its static peak refitted beside it

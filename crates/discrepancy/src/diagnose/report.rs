@@ -42,10 +42,12 @@ pub struct DiagnosisReport<'a> {
     pub rival_mismatches: &'a [super::Rival],
     /// For a structure `cubic_stiffness` that was named, or set aside as
     /// [`Verdict::Asymmetric`] or [`Verdict::TimeVarying`]: its asymmetric part k₂q² refitted
-    /// beside it, and whether the data demand it; absent otherwise.
+    /// beside it, and whether the data demand it; absent otherwise (and for the slewing rig's
+    /// hub spring, which is tested for change with time only).
     pub asymmetric_spring: Option<&'a super::SpringTerm>,
-    /// For the same spring: a linear stiffness that changes with time, k₁′·t·q, refitted beside
-    /// it, and whether the data demand it; absent otherwise.
+    /// For the same spring, and for the slewing rig's hub spring likewise: a linear stiffness
+    /// that changes with time, k₁′·t·q, refitted beside it, and whether the data demand it;
+    /// absent otherwise.
     pub changing_spring: Option<&'a super::SpringTerm>,
     /// For a named `coulomb_friction` on the slewing rig: its static (Stribeck) peak refitted
     /// beside it, and whether the data demand it — demanded, the named friction carries it;
