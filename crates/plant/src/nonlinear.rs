@@ -40,8 +40,10 @@ pub struct Dynamics<D: Scalar> {
     drag: Option<(D, Option<D>)>,
     /// k₃ of a hub spring (its linear part is in A).
     cubic: Option<D>,
-    /// k₅ and k₁′ of a hub spring, when given (−k₅θ⁵ − k₁′·t·θ).
-    spring_form: (Option<D>, Option<D>),
+    /// k₅ of a hub spring, when given (−k₅θ⁵).
+    quintic: Option<D>,
+    /// k₁′ of a hub spring, when given (−k₁′·t·θ).
+    rate: Option<D>,
     /// Backlash: k_g and half the dead band.
     backlash: Option<(D, D)>,
     amplifier_voltage_gain: D,
@@ -108,7 +110,7 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
     let mut coulomb = None;
     let mut drag = None;
     let mut cubic = None;
-    let mut spring_form = (None, None);
+    let (mut quintic, mut rate) = (None, None);
     let mut backlash = None;
     for e in &c.effects {
         match e {
@@ -124,9 +126,9 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
                     Some(Friction { torque: *torque, smoothing_velocity: *smoothing_velocity, stribeck })
             }
             Effect::QuadraticDrag { hub, exponent } => drag = Some((*hub, *exponent)),
-            Effect::CubicStiffness { coefficient, quintic, rate, .. } => {
+            Effect::CubicStiffness { coefficient, quintic: k5, rate: k1_rate, .. } => {
                 cubic = Some(*coefficient);
-                spring_form = (*quintic, *rate);
+                (quintic, rate) = (*k5, *k1_rate);
             }
             Effect::Backlash { dead_band, .. } => {
                 let (kg, _) = crate::assemble::gear(c).expect("a backlash effect has a gear");
@@ -146,7 +148,8 @@ pub fn dynamics<D: Scalar>(c: &Constants<D>, sensors: &[Sensor]) -> Result<Dynam
         coulomb,
         drag,
         cubic,
-        spring_form,
+        quintic,
+        rate,
         backlash,
         amplifier_voltage_gain: c.amplifier_gain * c.position_gain,
         armature_resistance: c.armature_resistance,
@@ -246,8 +249,8 @@ impl<D: Scalar> Dynamics<D> {
             out.extend(p);
         }
         out.extend(self.cubic);
-        out.extend(self.spring_form.0);
-        out.extend(self.spring_form.1);
+        out.extend(self.quintic);
+        out.extend(self.rate);
         if let Some((kg, half)) = self.backlash {
             out.extend([kg, half]);
         }
@@ -303,11 +306,11 @@ impl<D: Scalar> Dynamics<D> {
         if let Some(k3) = self.cubic {
             hub -= k3 * theta * theta * theta;
         }
-        if let Some(k5) = self.spring_form.0 {
+        if let Some(k5) = self.quintic {
             let square = theta * theta;
             hub -= k5 * square * square * theta;
         }
-        if let Some(rate) = self.spring_form.1 {
+        if let Some(rate) = self.rate {
             hub -= rate * D::from(t) * theta;
         }
         (servo, hub)

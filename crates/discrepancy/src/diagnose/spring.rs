@@ -166,10 +166,7 @@ fn terms<const N: usize>(
             demanded: (added >= threshold || resolved) && mismatch::determined(&outcome, name),
         })
     };
-    let found: Vec<Option<SpringTerm>> = {
-        use rayon::prelude::*;
-        tested.par_iter().map(|name| term(name)).collect()
-    };
-    let found: Vec<SpringTerm> = found.into_iter().collect::<Option<_>>()?;
-    found.try_into().ok()
+    use rayon::prelude::*;
+    let found: Option<Vec<SpringTerm>> = tested.par_iter().map(|name| term(name)).collect();
+    found?.try_into().ok()
 }
