@@ -3,7 +3,9 @@
 //! Their sensitivities are exact and trivial — ∂y′/∂b = 1, ∂y′/∂s = y, ∂y′/∂d = t — and the
 //! dynamics' sensitivities are scaled by (1 + s). A drift that levels off with time constant τ
 //! adds d·τ(1 − e^{−t/τ}) instead: ∂/∂d = τ(1 − e^{−t/τ}), ∂/∂τ = d[(1 − e^{−t/τ}) − (t/τ)e^{−t/τ}].
-//! Quantization, the fourth sensor effect, is a reading model
+//! Crosstalk adds another output's signal, y′ = y + g·y_j (y_j as the dynamics give it):
+//! ∂y′/∂g = y_j, and the dynamics' sensitivities gain g·∂y_j/∂P.
+//! Quantization, the fifth sensor effect, is a reading model
 //! (`mem::Experiment::with_quantization`), not a transform.
 
 use expm::Response;
@@ -19,10 +21,15 @@ pub enum SensorTerm {
     Scale,
     /// y + d·t.
     Drift,
+    /// y + g·y_from: output `from`'s signal picked up.
+    Crosstalk {
+        /// The output picked up.
+        from: usize,
+    },
 }
 
 impl SensorTerm {
-    /// The term of a sensor effect kind.
+    /// The term of a sensor effect kind whose term has no further data (not crosstalk).
     pub fn of(kind: EffectKind) -> Option<Self> {
         match kind {
             EffectKind::OutputOffset => Some(SensorTerm::Offset),
@@ -170,7 +177,24 @@ impl WithSensors {
                 }
             }
         }
-        for e in self.effects.iter().filter(|e| e.term != SensorTerm::Scale) {
+        for e in self.effects.iter() {
+            let SensorTerm::Crosstalk { from } = e.term else { continue };
+            let g = value(e);
+            for t in 0..k {
+                out.outputs[(t, e.output)] += g * raw.outputs[(t, from)];
+                if !sensitivities {
+                    continue;
+                }
+                for (c, &i) in self.physics.iter().enumerate() {
+                    out.sensitivities[(t * n_out + e.output, i)] +=
+                        g * raw.sensitivities[(t * n_out + from, c)];
+                }
+                if let Some(i) = e.free {
+                    out.sensitivities[(t * n_out + e.output, i)] = raw.outputs[(t, from)];
+                }
+            }
+        }
+        for e in self.effects.iter().filter(|e| matches!(e.term, SensorTerm::Offset | SensorTerm::Drift)) {
             let v = value(e);
             let tau = e.time_constant.as_ref().map(|c| c.free.map_or(c.value, |i| p[i]));
             let tau_free = e.time_constant.as_ref().and_then(|c| c.free);

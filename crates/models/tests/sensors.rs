@@ -140,3 +140,74 @@ fn a_drift_that_levels_off_is_its_closed_form_with_exact_sensitivities() {
         }
     }
 }
+
+/// Crosstalk: the strain channel picking up the tachometer reads y_strain + g·y_θ̇, computed
+/// here from the plain model's response; every sensitivity column (g's is y_θ̇, the dynamics'
+/// gain g·∂y_θ̇/∂P) matches central differences, with a scale on the same channel beside it.
+#[test]
+fn a_channel_picking_up_another_reads_both_and_its_sensitivities_are_exact() {
+    let (g, s) = (0.8, 0.05);
+    let effects = format!(
+        "SensorScale(sensor: StrainGauge, scale: {s}), SensorCrosstalk(sensor: StrainGauge, from: Tachometer, gain: {g})"
+    );
+    let text = plant::PAPER_MODEL_RON
+        .replace("    bounds: {", &format!("    effects: [{effects}],\n    bounds: {{"));
+    let model = Model::Slewing(SlewingModel::from_ron(&text, "crosstalk.ron").unwrap());
+    let plain = Model::Slewing(SlewingModel::paper());
+    let names = ["cv", "crosstalk_strain_theta_dot", "kp", "scale_strain"];
+    let p0 = [0.06, g, 8.0, s];
+    let respond = |m: &Model, names: &[&str], p: &[f64]| {
+        let mut out = Response::zeros(120, 3, names.len());
+        m.response(names).unwrap().respond(p, &Grid::free(1.0 / 12.8), &mut out).unwrap();
+        out
+    };
+    let a = respond(&model, &names, &p0);
+    let base = respond(&plain, &["cv", "kp"], &[0.06, 8.0]);
+    for k in 0..120 {
+        assert_eq!(a.outputs[(k, 0)], base.outputs[(k, 0)]);
+        assert_eq!(a.outputs[(k, 1)], base.outputs[(k, 1)]);
+        let want = (1.0 + s) * base.outputs[(k, 2)] + g * base.outputs[(k, 1)];
+        assert!((a.outputs[(k, 2)] - want).abs() <= 1e-12 * want.abs().max(1.0), "sample {k}");
+    }
+    assert!(a.sensitivities.nrows() == 360 && (0..120).any(|k| a.sensitivities[(k * 3 + 2, 1)] != 0.0));
+    for i in 0..names.len() {
+        let h = 1e-6 * p0[i].abs().max(1e-3);
+        let shifted = |sign: f64| {
+            let mut q = p0;
+            q[i] += sign * h;
+            respond(&model, &names, &q)
+        };
+        let (plus, minus) = (shifted(1.0), shifted(-1.0));
+        let scale = (0..a.sensitivities.nrows()).map(|r| a.sensitivities[(r, i)].abs()).fold(0.0, f64::max);
+        for k in 0..120 {
+            for o in 0..3 {
+                let fd = (plus.outputs[(k, o)] - minus.outputs[(k, o)]) / (2.0 * h);
+                let exact = a.sensitivities[(k * 3 + o, i)];
+                assert!(
+                    (fd - exact).abs() <= 1e-6 * scale,
+                    "{} sample {k} output {o}: {fd} vs {exact}",
+                    names[i]
+                );
+            }
+        }
+    }
+}
+
+/// A crosstalk from the sensor itself, or from one the file does not read, is refused with the
+/// field named.
+#[test]
+fn a_crosstalk_needs_another_sensor_that_is_read() {
+    for (from, outputs) in
+        [("StrainGauge", None), ("Tachometer", Some("outputs: [Potentiometer, StrainGauge],"))]
+    {
+        let mut text = plant::PAPER_MODEL_RON.replace(
+            "    bounds: {",
+            &format!("    effects: [SensorCrosstalk(sensor: StrainGauge, from: {from}, gain: 0.1)],\n    bounds: {{"),
+        );
+        if let Some(o) = outputs {
+            text = text.replace("outputs: [Potentiometer, Tachometer, StrainGauge],", o);
+        }
+        let err = SlewingModel::from_ron(&text, "crosstalk.ron").unwrap_err().to_string();
+        assert!(err.contains("effects.from") && err.contains("another sensor"), "{err}");
+    }
+}

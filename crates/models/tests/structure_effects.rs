@@ -344,6 +344,32 @@ fn a_drift_that_levels_off_acts_on_a_structure_output() {
     }
 }
 
+/// A structure's crosstalk: output q3 picking up q1 reads y_q3 + g·y_q1; its gain is freed by
+/// name (`crosstalk_q3_q1`) with a sensitivity that is the central difference; a crosstalk from
+/// the output itself is refused.
+#[test]
+fn a_crosstalk_acts_on_a_structure_output() {
+    let g = 0.3;
+    let effect = format!("SensorCrosstalk(output: \"q3\", from: \"q1\", gain: {g})");
+    let (with, without, h) = sensed_and_bare(&effect);
+    let k = with.outputs.nrows();
+    for s in 0..k {
+        assert_eq!(with.outputs[(s, 0)], without.outputs[(s, 0)]);
+        let expected = without.outputs[(s, 1)] + g * without.outputs[(s, 0)];
+        assert!((with.outputs[(s, 1)] - expected).abs() < 1e-12 * expected.abs().max(1e-3), "sample {s}");
+    }
+    let response = with_effects(&effect).response(&["crosstalk_q3_q1", "k1"]).unwrap();
+    let p = [g, with_effects(&effect).value("k1").unwrap()];
+    let out = respond(response.as_ref(), &p, k, h);
+    for i in 0..2 {
+        assert_central_differences(response.as_ref(), &p, &out, i, h, 1e-6);
+    }
+    let text = FILE.trim_end().trim_end_matches(')').to_string()
+        + "    effects: [SensorCrosstalk(output: \"q3\", from: \"q3\", gain: 0.1)],\n)\n";
+    let err = Model::from_ron(&text, "building.ron").unwrap_err().to_string();
+    assert!(err.contains("another output") && !err.contains('\n'), "{err}");
+}
+
 #[test]
 fn effects_are_checked_where_they_stand_and_written_back() {
     let text = FILE.trim_end().trim_end_matches(')').to_string()

@@ -18,6 +18,7 @@
 //! | `SensorQuantization` | — (measurement only) | y ← Δ·round(y/Δ) on one sensor |
 //! | `OutputOffset` | `offset_<output>` | y ← y + b on one sensor |
 //! | `SensorScale` | `scale_<output>` | y ← (1 + s)·y on one sensor (a calibration error) |
+//! | `SensorCrosstalk` | `crosstalk_<output>_<from>` | y ← y + g·y_from on one sensor: another sensor's signal picked up by its channel (a wiring or amplifier fault; a measurement fact the diagnosis sets against a named effect, not a catalog candidate) |
 //! | `SensorDrift` | `drift_<output>` \[unit/s\], optional `drift_time_<output>` τ \[s\] | y ← y + d·t on one sensor (a slow drift); with τ, y ← y + d·τ(1 − e^{−t/τ}): a drift at rate d that levels off at d·τ (a sensor warming up) |
 
 use crate::sensors::Sensor;
@@ -51,11 +52,14 @@ pub enum EffectKind {
     TimeDelay,
     /// A structural mode the model lacks.
     UnmodeledMode,
+    /// Another sensor's signal picked up by one sensor's channel. Not a candidate of the
+    /// diagnosis: it is set against a named effect (a wiring fault is not physics).
+    SensorCrosstalk,
 }
 
 impl EffectKind {
     /// Every kind, in catalog order.
-    pub const ALL: [EffectKind; 12] = [
+    pub const ALL: [EffectKind; 13] = [
         EffectKind::AmplifierSaturation,
         EffectKind::VoltageSaturation,
         EffectKind::CoulombFriction,
@@ -68,6 +72,7 @@ impl EffectKind {
         EffectKind::SensorDrift,
         EffectKind::TimeDelay,
         EffectKind::UnmodeledMode,
+        EffectKind::SensorCrosstalk,
     ];
 
     /// The catalog name (snake case), as `memid diagnose` reports it.
@@ -85,6 +90,7 @@ impl EffectKind {
             EffectKind::SensorDrift => "sensor_drift",
             EffectKind::TimeDelay => "time_delay",
             EffectKind::UnmodeledMode => "unmodeled_mode",
+            EffectKind::SensorCrosstalk => "sensor_crosstalk",
         }
     }
 
@@ -101,6 +107,7 @@ impl EffectKind {
                 | EffectKind::OutputOffset
                 | EffectKind::SensorScale
                 | EffectKind::SensorDrift
+                | EffectKind::SensorCrosstalk
         )
     }
 }
@@ -241,6 +248,16 @@ pub enum Effect<D = f64> {
         #[serde(default)]
         time_constant: Option<D>,
     },
+    /// Another sensor's signal picked up by one sensor's channel.
+    SensorCrosstalk {
+        /// The sensor whose reading carries the other's.
+        sensor: Sensor,
+        /// The sensor whose signal it picks up.
+        from: Sensor,
+        /// g: the reading is y + g·y_from (y_from as the dynamics give it, before the other
+        /// sensor's own effects), in the ratio of the two outputs' units.
+        gain: D,
+    },
     /// A delay in the position feedback.
     TimeDelay {
         /// Delay τ \[s\].
@@ -291,6 +308,7 @@ impl<D> Effect<D> {
             Effect::SensorDrift { .. } => EffectKind::SensorDrift,
             Effect::TimeDelay { .. } => EffectKind::TimeDelay,
             Effect::UnmodeledMode { .. } => EffectKind::UnmodeledMode,
+            Effect::SensorCrosstalk { .. } => EffectKind::SensorCrosstalk,
         }
     }
 
@@ -300,7 +318,8 @@ impl<D> Effect<D> {
             Effect::SensorQuantization { sensor, .. }
             | Effect::OutputOffset { sensor, .. }
             | Effect::SensorScale { sensor, .. }
-            | Effect::SensorDrift { sensor, .. } => Some(*sensor),
+            | Effect::SensorDrift { sensor, .. }
+            | Effect::SensorCrosstalk { sensor, .. } => Some(*sensor),
             _ => None,
         }
     }
@@ -369,6 +388,9 @@ impl<D> Effect<D> {
                 time_constant: time_constant.as_ref().map(&f),
             },
             Effect::TimeDelay { delay } => Effect::TimeDelay { delay: f(delay) },
+            Effect::SensorCrosstalk { sensor, from, gain } => {
+                Effect::SensorCrosstalk { sensor: *sensor, from: *from, gain: f(gain) }
+            }
             Effect::UnmodeledMode {
                 frequency_hz,
                 damping_ratio,

@@ -189,6 +189,15 @@ impl ModelFile {
                     format!("{} refers to {sensor:?}, which is not in `outputs`", e.kind().name()),
                 ));
             }
+            if let Effect::SensorCrosstalk { sensor, from, .. } = e
+                && (from == sensor || !self.outputs.contains(from))
+            {
+                return Err(invalid(
+                    "effects.from",
+                    i as f64,
+                    format!("must be another sensor in `outputs` than {sensor:?}, not {from:?}"),
+                ));
+            }
             if let Effect::SensorQuantization { step, .. } = e
                 && !(step.is_finite() && *step > 0.0)
             {

@@ -87,6 +87,9 @@ pub enum ParamId {
     Drift(Sensor),
     /// `drift_time_<output>` of `SensorDrift` (when given): the time constant it levels off with.
     DriftTime(Sensor),
+    /// `crosstalk_<output>_<from>` of `SensorCrosstalk`: the gain of `from`'s signal in
+    /// `output`'s reading.
+    Crosstalk(Sensor, Sensor),
     /// `voltage_limit` of `VoltageSaturation`.
     VoltageLimit,
     /// `drag_exponent` of `QuadraticDrag` (when given).
@@ -183,6 +186,7 @@ impl ParamId {
             ParamId::Scale(s) => format!("scale_{}", s.output_name()),
             ParamId::Drift(s) => format!("drift_{}", s.output_name()),
             ParamId::DriftTime(s) => format!("drift_time_{}", s.output_name()),
+            ParamId::Crosstalk(s, from) => format!("crosstalk_{}_{}", s.output_name(), from.output_name()),
             other => CORE
                 .iter()
                 .chain(EFFECT_PARAMS.iter())
@@ -201,6 +205,7 @@ impl ParamId {
             ParamId::Scale(_) => "effects.scale".into(),
             ParamId::Drift(_) => "effects.rate".into(),
             ParamId::DriftTime(_) => "effects.time_constant".into(),
+            ParamId::Crosstalk(..) => "effects.gain".into(),
             other => CORE
                 .iter()
                 .map(|(_, id, path)| (*id, (*path).to_string()))
@@ -235,6 +240,7 @@ impl ParamId {
             ParamId::Offset(_)
             | ParamId::Scale(_)
             | ParamId::Drift(_)
+            | ParamId::Crosstalk(..)
             | ParamId::CubicStiffness
             | ParamId::HubStiffness
             | ParamId::QuinticStiffness
@@ -333,6 +339,7 @@ impl ParamId {
                 ids
             }
             Effect::TimeDelay { .. } => vec![ParamId::Delay],
+            Effect::SensorCrosstalk { sensor, from, .. } => vec![ParamId::Crosstalk(*sensor, *from)],
             Effect::UnmodeledMode { stiffness_coupling, damping_coupling, .. } => {
                 let mut ids =
                     vec![ParamId::ExtraModeFrequency, ParamId::ExtraModeDamping, ParamId::ExtraModeCoupling];
@@ -407,6 +414,11 @@ macro_rules! effect_field {
             (Effect::OutputOffset { sensor, offset }, ParamId::Offset(s)) if *sensor == s => Some(offset),
             (Effect::SensorScale { sensor, scale }, ParamId::Scale(s)) if *sensor == s => Some(scale),
             (Effect::SensorDrift { sensor, rate, .. }, ParamId::Drift(s)) if *sensor == s => Some(rate),
+            (Effect::SensorCrosstalk { sensor, from, gain }, ParamId::Crosstalk(s, f))
+                if *sensor == s && *from == f =>
+            {
+                Some(gain)
+            }
             (Effect::SensorDrift { sensor, time_constant: Some(tau), .. }, ParamId::DriftTime(s))
                 if *sensor == s =>
             {

@@ -1,7 +1,8 @@
 //! Effects added to a structure: what a linear model file leaves out, each where it acts.
 //!
 //! * **Sensor effects** on an output y (a CSV column): offset b, scale error s and drift d,
-//!   read as y′ = (1 + s)·y + b + d·t; and quantization to a step Δ (a reading model). They are
+//!   read as y′ = (1 + s)·y + b + d·t; crosstalk g, another output's signal y_j picked up,
+//!   y′ = y + g·y_j; and quantization to a step Δ (a reading model). They are
 //!   measurement transforms: [`StructureModel::state_space`](crate::StructureModel::state_space)
 //!   leaves them out and the adapter layer (`models`) applies them.
 //! * **Local forces** at a coordinate q_j of a second-order model, entering as
@@ -24,7 +25,8 @@
 //!   is linear: two states appended to x, so the exact exponential path still applies.
 //!
 //! Every effect's parameters join the model's, after the file's, with names that say where they
-//! act: `offset_<output>`, `scale_<output>`, `drift_<output>`, `friction_<coordinate>`,
+//! act: `offset_<output>`, `scale_<output>`, `drift_<output>`, `crosstalk_<output>_<from>`,
+//! `friction_<coordinate>`,
 //! `static_peak_<coordinate>`, `stribeck_velocity_<coordinate>`,
 //! `drag_<coordinate>`, `drag_exponent_<coordinate>`, `cubic_<coordinate>`, `quadratic_<coordinate>`, `quintic_<coordinate>`,
 //! `stiffness_rate_<coordinate>`, `mode_frequency`,
@@ -63,6 +65,15 @@ pub enum Effect {
         /// τ (absent: the drift goes on, d·t).
         #[serde(default)]
         time_constant: Option<f64>,
+    },
+    /// Another output's signal picked up by this output's channel: it reads y + g·y_from.
+    SensorCrosstalk {
+        /// The output's column.
+        output: String,
+        /// The output whose signal it picks up (as the dynamics give it).
+        from: String,
+        /// g.
+        gain: f64,
     },
     /// Readings rounded to multiples of `step`.
     SensorQuantization {
@@ -143,6 +154,8 @@ pub enum EffectKind {
     SensorDrift,
     /// [`Effect::SensorQuantization`].
     SensorQuantization,
+    /// [`Effect::SensorCrosstalk`].
+    SensorCrosstalk,
     /// [`Effect::DryFriction`].
     DryFriction,
     /// [`Effect::Drag`].
@@ -172,6 +185,7 @@ impl Effect {
             Effect::SensorScale { .. } => EffectKind::SensorScale,
             Effect::SensorDrift { .. } => EffectKind::SensorDrift,
             Effect::SensorQuantization { .. } => EffectKind::SensorQuantization,
+            Effect::SensorCrosstalk { .. } => EffectKind::SensorCrosstalk,
             Effect::DryFriction { .. } => EffectKind::DryFriction,
             Effect::Drag { .. } => EffectKind::Drag,
             Effect::CubicStiffness { .. } => EffectKind::CubicStiffness,
@@ -185,7 +199,8 @@ impl Effect {
             Effect::OutputOffset { output, .. }
             | Effect::SensorScale { output, .. }
             | Effect::SensorDrift { output, .. }
-            | Effect::SensorQuantization { output, .. } => Target::Output(output),
+            | Effect::SensorQuantization { output, .. }
+            | Effect::SensorCrosstalk { output, .. } => Target::Output(output),
             Effect::DryFriction { coordinate, .. }
             | Effect::Drag { coordinate, .. }
             | Effect::CubicStiffness { coordinate, .. } => Target::Coordinate(coordinate),
@@ -209,6 +224,9 @@ impl Effect {
                 out
             }
             Effect::SensorQuantization { .. } => Vec::new(),
+            Effect::SensorCrosstalk { output, from, gain } => {
+                vec![(format!("crosstalk_{output}_{from}"), *gain)]
+            }
             Effect::DryFriction { coordinate, force, static_peak, stribeck_velocity, .. } => {
                 let mut out = vec![(format!("friction_{coordinate}"), *force)];
                 out.extend(static_peak.map(|p| (format!("static_peak_{coordinate}"), p)));
@@ -243,7 +261,9 @@ impl Effect {
     /// Sets its k-th parameter (in the order of [`parameters`](Self::parameters)).
     pub(crate) fn set(&mut self, k: usize, value: f64) {
         match self {
-            Effect::OutputOffset { offset: v, .. } | Effect::SensorScale { scale: v, .. } => *v = value,
+            Effect::OutputOffset { offset: v, .. }
+            | Effect::SensorScale { scale: v, .. }
+            | Effect::SensorCrosstalk { gain: v, .. } => *v = value,
             Effect::SensorDrift { rate, time_constant, .. } => {
                 let mut slots: Vec<&mut f64> = vec![rate];
                 slots.extend(time_constant.as_mut());
@@ -298,6 +318,14 @@ impl Effect {
             match self {
                 Effect::SensorQuantization { step, .. } if !(step.is_finite() && *step > 0.0) => {
                     Some(format!("step = {step}: give a positive step"))
+                }
+                Effect::SensorCrosstalk { output, from, .. }
+                    if from == output || !outputs.iter().any(|n| n == from) =>
+                {
+                    Some(format!(
+                        "from = `{from}`: give another output than `{output}`; the outputs are {}",
+                        outputs.join(", ")
+                    ))
                 }
                 Effect::DryFriction { smoothing_velocity: v, .. } if !(v.is_finite() && *v > 0.0) => {
                     Some(format!("smoothing_velocity = {v}: give a positive velocity"))

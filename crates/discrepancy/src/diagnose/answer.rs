@@ -34,6 +34,14 @@ pub enum AddedTerm {
         /// The coordinate.
         coordinate: String,
     },
+    /// Another output's signal picked up by one output's channel (`crosstalk_<output>_<from>`):
+    /// it reads y + g·y_from, a wiring or amplifier fault.
+    Crosstalk {
+        /// The output whose reading carries the other's.
+        output: String,
+        /// The output picked up.
+        from: String,
+    },
 }
 
 /// The in-sample evidence (nats) an effect needs over a rival of no more parameters to keep its
@@ -65,6 +73,11 @@ pub struct Rival {
     pub added: bool,
     /// The linear term added to try it, if the model lacked it.
     pub adds: Option<AddedTerm>,
+    /// The nats its gain is charged before it is set against the effect: ln K for a term
+    /// chosen as the best of K alternatives of one class (a crosstalk, of the p(p − 1) ordered
+    /// pairs of p outputs), which as a class weighs as one alternative; 0 for the model's own
+    /// parameters and the other added terms, each an alternative of its own.
+    pub penalty: f64,
 }
 
 impl Rival {
@@ -77,15 +90,20 @@ impl Rival {
             Some(AddedTerm::LinearDamper { coordinate }) => {
                 format!("`{}` (a linear damper at {coordinate}, absent from the model)", self.name)
             }
+            Some(AddedTerm::Crosstalk { output, from }) => format!(
+                "`{}` (`{from}`'s signal picked up by the `{output}` channel, y + g·{from}: a wiring fault, not physics)",
+                self.name
+            ),
             None => format!("`{}`", self.name),
         }
     }
 
     /// Whether this mismatch explains the data as well as an effect of in-sample gain
-    /// `effect_in_sample` (with no more parameters), to within [`RIVAL_MARGIN`]: then the
-    /// effect is not named ([`Verdict::MatchedByMismatch`]).
+    /// `effect_in_sample` (with no more parameters), to within [`RIVAL_MARGIN`], once charged
+    /// its [`penalty`](Self::penalty): then the effect is not named
+    /// ([`Verdict::MatchedByMismatch`]).
     pub fn unseats(&self, effect_in_sample: f64) -> bool {
-        self.in_sample + RIVAL_MARGIN > effect_in_sample
+        self.in_sample - self.penalty + RIVAL_MARGIN > effect_in_sample
     }
 }
 

@@ -110,6 +110,7 @@ pub fn determined(outcome: &FitOutcome, name: &str) -> bool {
 
 /// A parameter a named effect is tried against ([`rival_parameters`]): its name, the range it is
 /// refitted in, and the effect that carries it when the model has none yet.
+#[derive(Clone)]
 pub struct RivalTrial {
     /// Parameter name.
     pub name: String,
@@ -118,6 +119,9 @@ pub struct RivalTrial {
     /// The effect added (at zero strength) to make the parameter exist, if the model lacks it,
     /// and the term it is.
     pub adds: Option<(ModelEffect, AddedTerm)>,
+    /// The nats its gain is charged for having been chosen among others of its class
+    /// ([`Rival::penalty`](super::Rival::penalty)); 0 for a parameter of the model's own.
+    pub penalty: f64,
 }
 
 /// The model's own parameters, not refitted, that a named effect is tried against as a
@@ -142,7 +146,7 @@ pub struct RivalTrial {
 pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
     let named = |ids: Vec<(ParamId, (f64, f64))>| {
         ids.into_iter()
-            .map(|(id, bounds)| RivalTrial { name: id.name(), bounds, adds: None })
+            .map(|(id, bounds)| RivalTrial { name: id.name(), bounds, adds: None, penalty: 0.0 })
             .collect::<Vec<_>>()
     };
     let all = match model {
@@ -169,6 +173,7 @@ pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
                         .into(),
                         AddedTerm::HubSpring,
                     )),
+                    penalty: 0.0,
                 });
             }
             all
@@ -180,8 +185,10 @@ pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
                 let range = within(v, around(v, 0.3), m.bounds(&n))?;
                 Some((n, range))
             }));
-            let mut all: Vec<RivalTrial> =
-                bounds.into_iter().map(|(name, bounds)| RivalTrial { name, bounds, adds: None }).collect();
+            let mut all: Vec<RivalTrial> = bounds
+                .into_iter()
+                .map(|(name, bounds)| RivalTrial { name, bounds, adds: None, penalty: 0.0 })
+                .collect();
             all.extend(linear_dampers(m));
             all
         }
@@ -207,6 +214,7 @@ fn linear_dampers(model: &structure::StructureModel) -> Vec<RivalTrial> {
                 name,
                 bounds: (-c, c),
                 adds: Some((effect.into(), AddedTerm::LinearDamper { coordinate: s.coordinate })),
+                penalty: 0.0,
             })
         })
         .collect()

@@ -28,7 +28,9 @@
 //!    radius, and a linear spring at the hub the model lacks), refitted alone in its place
 //!    ([`Rival`], [`Verdict::MatchedByMismatch`]): a wrong parameter is not a missing effect,
 //!    and one parameter that explains as much as an effect of one to three is the simpler
-//!    answer. (For a sensor scale, the parameters that scale its output alone are its exact
+//!    answer. So is one sensor's channel picking up another's signal, y_i + g·y_j (a wiring
+//!    fault; the pair that best explains the reference's residual, charged ln p(p − 1) nats
+//!    for being the best of p(p − 1), module `crosstalk`). (For a sensor scale, the parameters that scale its output alone are its exact
 //!    equivalents and reported as such, not tried.)
 //! 8. a symmetric spring (a structure's `cubic_stiffness` at coordinate c, or the slewing rig's
 //!    at the hub) is demanded neither to be asymmetric nor to change with time: refitted with
@@ -62,6 +64,7 @@
 
 mod answer;
 pub mod catalog;
+mod crosstalk;
 pub mod evidence;
 mod friction;
 mod mismatch;
@@ -323,6 +326,7 @@ pub fn diagnose_observed(
             reference: &reference.outcome.fitted,
             free: &reference_free,
             exclude: &scale_equivalents,
+            also: crosstalk::screened(&reference.outcome, &noise, trial.output).into_iter().collect(),
             to_match: candidates[i].evidence.in_sample - options.threshold,
         };
         rivals = search.find(&data, |o| evidence::gain(&likelihoods(o), &reference_likelihoods));

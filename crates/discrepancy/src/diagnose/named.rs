@@ -76,6 +76,8 @@ pub(super) struct Rivals<'a> {
     pub free: &'a [String],
     /// Parameters not tried (the scale's exact equivalents, reported as such).
     pub exclude: &'a [String],
+    /// Terms tried beside the model's own parameters (a sensor's crosstalk, module `crosstalk`).
+    pub also: Vec<mismatch::RivalTrial>,
     /// The gain a rival must reach (nats).
     pub to_match: f64,
 }
@@ -84,6 +86,7 @@ impl Rivals<'_> {
     pub(super) fn find(&self, data: &Measurement, gain: impl Fn(&FitOutcome) -> f64 + Sync) -> Vec<Rival> {
         let tried: Vec<mismatch::RivalTrial> = mismatch::rival_parameters(self.reference, self.free)
             .into_iter()
+            .chain(self.also.iter().cloned())
             .filter(|t| !self.exclude.contains(&t.name))
             .collect();
         let mut found = tried
@@ -108,6 +111,7 @@ impl Rivals<'_> {
                     in_sample,
                     added: t.adds.is_some(),
                     adds: t.adds.as_ref().map(|(_, term)| term.clone()),
+                    penalty: t.penalty,
                 })
             })
             .collect::<Vec<_>>();

@@ -114,11 +114,17 @@ impl Model {
                 .sensor_effects()
                 .into_iter()
                 .filter_map(|(output, e)| {
-                    let term = SensorTerm::of(e.kind())?;
                     let name = plant::ParamId::of_effect(&e).first().map(|id| id.name())?;
+                    let term = match &e {
+                        plant::Effect::SensorCrosstalk { from, .. } => {
+                            SensorTerm::Crosstalk { from: m.sensors().iter().position(|s| s == from)? }
+                        }
+                        other => SensorTerm::of(other.kind())?,
+                    };
                     let (value, time_constant) = match e {
                         plant::Effect::OutputOffset { offset, .. } => (offset, None),
                         plant::Effect::SensorScale { scale, .. } => (scale, None),
+                        plant::Effect::SensorCrosstalk { gain, .. } => (gain, None),
                         plant::Effect::SensorDrift { sensor, rate, time_constant } => (
                             rate,
                             time_constant.map(|value| TimeConstant {
@@ -146,6 +152,10 @@ impl Model {
                             }
                             structure::Effect::SensorDrift { output, rate, time_constant } => {
                                 (output, SensorTerm::Drift, *rate, *time_constant)
+                            }
+                            structure::Effect::SensorCrosstalk { output, from, gain } => {
+                                let from = outputs.iter().position(|o| o == from)?;
+                                (output, SensorTerm::Crosstalk { from }, *gain, None)
                             }
                             _ => return None,
                         };

@@ -16,6 +16,7 @@ pub(super) fn kind(effect: &Effect) -> EffectKind {
         Effect::SensorScale { .. } => EffectKind::SensorScale,
         Effect::SensorDrift { .. } => EffectKind::SensorDrift,
         Effect::SensorQuantization { .. } => EffectKind::SensorQuantization,
+        Effect::SensorCrosstalk { .. } => EffectKind::SensorCrosstalk,
         Effect::DryFriction { .. } => EffectKind::CoulombFriction,
         Effect::Drag { .. } => EffectKind::QuadraticDrag,
         Effect::CubicStiffness { .. } => EffectKind::CubicStiffness,
