@@ -22,6 +22,35 @@ fn respond(names: &[&str], p: &[f64]) -> Response {
     out
 }
 
+/// Every sensitivity column of `at` (the response `run` gives at `p`) against central
+/// differences of `run`'s outputs, step 10⁻⁶·max(|p_i|, 10⁻³), to 10⁻⁶ of the column's largest
+/// entry (which must not be zero).
+fn assert_central_differences(run: impl Fn(&[f64]) -> Response, p: &[f64], at: &Response, names: &[&str]) {
+    let (k, n_out) = (at.outputs.nrows(), at.outputs.ncols());
+    for i in 0..p.len() {
+        let step = 1e-6 * p[i].abs().max(1e-3);
+        let shifted = |sign: f64| {
+            let mut q = p.to_vec();
+            q[i] += sign * step;
+            run(&q)
+        };
+        let (plus, minus) = (shifted(1.0), shifted(-1.0));
+        let scale = (0..k * n_out).map(|r| at.sensitivities[(r, i)].abs()).fold(0.0, f64::max);
+        assert!(scale > 0.0, "{} has a sensitivity", names[i]);
+        for s in 0..k {
+            for o in 0..n_out {
+                let fd = (plus.outputs[(s, o)] - minus.outputs[(s, o)]) / (2.0 * step);
+                let exact = at.sensitivities[(s * n_out + o, i)];
+                assert!(
+                    (fd - exact).abs() <= 1e-6 * scale,
+                    "{} sample {s} output {o}: {fd} vs {exact}",
+                    names[i]
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn sensor_parameters_in_any_position_follow_the_callers_order() {
     let first = ["offset_theta", "cv", "scale_strain", "kp"];
@@ -40,28 +69,7 @@ fn sensor_parameters_in_any_position_follow_the_callers_order() {
     }
     // And each column is the derivative of the outputs (central differences, the model is
     // linear so the exact path's sensitivities are exact to rounding).
-    for i in 0..4 {
-        let h = 1e-6 * p_first[i].abs().max(1e-3);
-        let shifted = |sign: f64| {
-            let mut q = p_first;
-            q[i] += sign * h;
-            respond(&first, &q)
-        };
-        let (plus, minus) = (shifted(1.0), shifted(-1.0));
-        for k in 0..120 {
-            for o in 0..3 {
-                let fd = (plus.outputs[(k, o)] - minus.outputs[(k, o)]) / (2.0 * h);
-                let exact = a.sensitivities[(k * 3 + o, i)];
-                let scale =
-                    (0..a.sensitivities.nrows()).map(|r| a.sensitivities[(r, i)].abs()).fold(0.0, f64::max);
-                assert!(
-                    (fd - exact).abs() <= 1e-6 * scale,
-                    "{} sample {k} output {o}: {fd} vs {exact}",
-                    first[i]
-                );
-            }
-        }
-    }
+    assert_central_differences(|q| respond(&first, q), &p_first, &a, &first);
 }
 
 /// A drift that levels off with a time constant far beyond the record is the drift at a
@@ -117,28 +125,7 @@ fn a_drift_that_levels_off_is_its_closed_form_with_exact_sensitivities() {
             assert_eq!(with.outputs[(s, o)], without.outputs[(s, o)], "sample {s}, output {o}");
         }
     }
-    for i in 0..names.len() {
-        let step = 1e-6 * p[i].abs();
-        let shifted = |sign: f64| {
-            let mut q = p;
-            q[i] += sign * step;
-            run(&q)
-        };
-        let (plus, minus) = (shifted(1.0), shifted(-1.0));
-        let scale = (0..3 * k).map(|r| with.sensitivities[(r, i)].abs()).fold(0.0, f64::max);
-        assert!(scale > 0.0, "{} has a sensitivity", names[i]);
-        for s in 0..k {
-            for o in 0..3 {
-                let fd = (plus.outputs[(s, o)] - minus.outputs[(s, o)]) / (2.0 * step);
-                let exact = with.sensitivities[(s * 3 + o, i)];
-                assert!(
-                    (fd - exact).abs() <= 1e-6 * scale,
-                    "{} sample {s} output {o}: {fd} vs {exact}",
-                    names[i]
-                );
-            }
-        }
-    }
+    assert_central_differences(run, &p, &with, &names);
 }
 
 /// Crosstalk: the strain channel picking up the tachometer reads y_strain + g·y_θ̇, computed
@@ -170,27 +157,7 @@ fn a_channel_picking_up_another_reads_both_and_its_sensitivities_are_exact() {
         assert!((a.outputs[(k, 2)] - want).abs() <= 1e-12 * want.abs().max(1.0), "sample {k}");
     }
     assert!(a.sensitivities.nrows() == 360 && (0..120).any(|k| a.sensitivities[(k * 3 + 2, 1)] != 0.0));
-    for i in 0..names.len() {
-        let h = 1e-6 * p0[i].abs().max(1e-3);
-        let shifted = |sign: f64| {
-            let mut q = p0;
-            q[i] += sign * h;
-            respond(&model, &names, &q)
-        };
-        let (plus, minus) = (shifted(1.0), shifted(-1.0));
-        let scale = (0..a.sensitivities.nrows()).map(|r| a.sensitivities[(r, i)].abs()).fold(0.0, f64::max);
-        for k in 0..120 {
-            for o in 0..3 {
-                let fd = (plus.outputs[(k, o)] - minus.outputs[(k, o)]) / (2.0 * h);
-                let exact = a.sensitivities[(k * 3 + o, i)];
-                assert!(
-                    (fd - exact).abs() <= 1e-6 * scale,
-                    "{} sample {k} output {o}: {fd} vs {exact}",
-                    names[i]
-                );
-            }
-        }
-    }
+    assert_central_differences(|q| respond(&model, &names, q), &p0, &a, &names);
 }
 
 /// A crosstalk from the sensor itself, or from one the file does not read, is refused with the

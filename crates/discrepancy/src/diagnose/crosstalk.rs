@@ -47,7 +47,8 @@ fn regression_gain(residual: &Mat<f64>, regressor: &Mat<f64>, i: usize, j: usize
 /// The crosstalk to refit as a rival: the ordered pair (i picks up j) of the reference's
 /// outputs whose whitened regression gains most (see the module), added at zero with g within
 /// ± max|y_i| / max|y_j| (a pickup no larger than the output's own signal). None with one
-/// output, when no pair gains, or when the model already carries a crosstalk on that output.
+/// output or when no pair gains. (A model that already carries a crosstalk on output i cannot
+/// take a second: the rival search drops the trial when adding its effect fails.)
 ///
 /// No pair is tried on `named_output`, the output a named sensor effect acts on: both then say
 /// that channel misreads, and where the outputs move together — a free decay that one mode
@@ -61,15 +62,16 @@ pub(super) fn screened(
     let first = reference.first();
     let (residual, fitted) = (first.residual(), &first.final_outputs);
     let p = residual.ncols();
-    let peak = |c: usize| (0..fitted.nrows()).map(|k| fitted[(k, c)].abs()).fold(0.0, f64::max);
+    let peak: Vec<f64> =
+        (0..p).map(|c| (0..fitted.nrows()).map(|k| fitted[(k, c)].abs()).fold(0.0, f64::max)).collect();
     let (i, j, _) = (0..p)
         .filter(|&i| Some(i) != named_output)
         .flat_map(|i| (0..p).filter(move |&j| j != i).map(move |j| (i, j)))
-        .filter(|&(i, j)| peak(i) > 0.0 && peak(j) > 0.0)
+        .filter(|&(i, j)| peak[i] > 0.0 && peak[j] > 0.0)
         .map(|(i, j)| (i, j, regression_gain(&residual, fitted, i, j, noise.rho[i])))
         .filter(|&(_, _, gain)| gain > 0.0)
         .max_by(|a, b| a.2.total_cmp(&b.2))?;
-    let bound = peak(i) / peak(j);
+    let bound = peak[i] / peak[j];
     let model = &reference.fitted;
     let outputs = model.output_names();
     let effect: ModelEffect = match model {

@@ -30,8 +30,8 @@
 //!    and one parameter that explains as much as an effect of one to three is the simpler
 //!    answer. So is one sensor's channel picking up another's signal, y_i + g·y_j (a wiring
 //!    fault; the pair that best explains the reference's residual, charged ln p(p − 1) nats
-//!    for being the best of p(p − 1), module `crosstalk`). (For a sensor scale, the parameters that scale its output alone are its exact
-//!    equivalents and reported as such, not tried.)
+//!    for being the best of p(p − 1), module `crosstalk`). (For a sensor scale, the parameters
+//!    that scale its output alone are its exact equivalents and reported as such, not tried.)
 //! 8. a symmetric spring (a structure's `cubic_stiffness` at coordinate c, or the slewing rig's
 //!    at the hub) is demanded neither to be asymmetric nor to change with time: refitted with
 //!    k₂q_c² or with k₁′·t·q_c beside its k₃q_c³ and a symmetric k₅q_c⁵, neither term is

@@ -39,6 +39,7 @@ use super::named::FormTest;
 use super::{Candidate, EffectParameter, mismatch, run};
 
 use models::Model;
+use rayon::prelude::*;
 
 /// The bounds of the refinements, in the spring's own scales (k_cc and q̂_c from the model,
 /// [`super::catalog::structure::scales`], or the slewing rig's servo stiffness k_s and θ(0);
@@ -166,7 +167,6 @@ fn terms<const N: usize>(
             demanded: (added >= threshold || resolved) && mismatch::determined(&outcome, name),
         })
     };
-    use rayon::prelude::*;
     let found: Option<Vec<SpringTerm>> = tested.par_iter().map(|name| term(name)).collect();
     found?.try_into().ok()
 }
