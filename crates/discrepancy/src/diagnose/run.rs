@@ -205,13 +205,9 @@ pub fn fit_trial(
         });
     }
     let mut outcome = best.expect("a trial has a start")?;
-    // A resonance pressing on a bound of its search range is followed there (`Located`), if
-    // it may be damped beyond what ERA seeds.
+    // A resonance pressing on a bound of its search range is followed there (`Located`).
     let bound = |name: &str| trial.bounds.iter().find(|(n, _)| n == name).map(|(_, b)| *b);
-    if let Some(located) =
-        trial.located.as_ref().filter(|l| bound(&l.damping).is_some_and(|b| Located::unseen(b.1)))
-    {
-        let mut unmoved = None;
+    if let Some(located) = trial.located.as_ref() {
         let mut range = bound(&located.name);
         for _ in 0..Located::MAX_MOVES {
             let report = &outcome.report;
@@ -225,18 +221,7 @@ pub fn fit_trial(
                 break;
             }
             range = Some(next);
-            let before = std::mem::replace(&mut outcome, moved);
-            unmoved.get_or_insert(before);
-        }
-        // Where the range moved, only a mode ERA could not have seeded is kept there.
-        let report = &outcome.report;
-        let seen = report
-            .names
-            .iter()
-            .position(|n| *n == located.damping)
-            .is_some_and(|j| !Located::unseen(report.parameters[j]));
-        if let (true, Some(first)) = (seen, unmoved) {
-            outcome = first;
+            outcome = moved;
         }
     }
     Ok(Fitted { outcome })

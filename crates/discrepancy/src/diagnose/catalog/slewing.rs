@@ -78,7 +78,23 @@ fn mode_trial(
         prefix,
         damping: ParamId::ExtraModeDamping.name(),
     };
-    let mut t = trial(effect, located.label(seed.frequency), bounds, strength);
+    let starts = seed.starts();
+    let at = |f: f64| match effect.clone() {
+        Effect::UnmodeledMode { damping_ratio, coupling, stiffness_coupling, damping_coupling, .. } => {
+            Effect::UnmodeledMode {
+                frequency_hz: f,
+                damping_ratio,
+                coupling,
+                stiffness_coupling,
+                damping_coupling,
+            }
+        }
+        other => other,
+    };
+    let mut t = trial(at(starts[0]), located.label(seed.frequency), bounds, strength);
+    for &f in &starts[1..] {
+        t = t.or_from(at(f));
+    }
     t.located = Some(located);
     t
 }

@@ -239,8 +239,13 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
             prefix: "unmodeled_mode(".into(),
             damping: "mode_damping".into(),
         };
+        let at = |f: f64| Effect::UnmodeledMode {
+            frequency_hz: f,
+            damping_ratio: zeta.clamp(0.005, 0.15),
+            amplitudes: amplitudes.clone(),
+        };
         let mut t = trial(
-            Effect::UnmodeledMode { frequency_hz: f, damping_ratio: zeta.clamp(0.005, 0.15), amplitudes },
+            at(f),
             located.label(f),
             vec![("mode_frequency".into(), (low, high)), ("mode_damping".into(), (0.0, 0.2))],
             vec![Strength::Largest(
@@ -252,6 +257,9 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
             )],
             &outputs,
         );
+        for &f in &seed.starts()[1..] {
+            t = t.or_from(at(f));
+        }
         t.located = Some(located);
         out.push(t);
     }
