@@ -8,7 +8,13 @@ usage: python3 studies/diagnose/conditions.py SET_DIR OUT_DIR
 * `trunc15` the first 15 s of each record, decimated by 10 (12.8 Hz);
 * `sub2`    every second sample (a 64 Hz acquisition, the same noise per sample), decimated by
             5 (12.8 Hz, each kept sample the mean of 5 readings instead of 10: sqrt(2) more noise);
-* `dec5`    the records as they are, decimated by 5 (25.6 Hz).
+* `dec5`    the records as they are, decimated by 5 (25.6 Hz);
+* `notach`  a rig without a tachometer: the model files read the potentiometer and the strain
+            gauge only, the records lose their `theta_dot` column; decimated by 10 (an effect
+            on the tachometer alone is then not in the record, and `none` is its answer);
+* `noisytach` the tachometer noisier than the rest: white noise of 3 % of each record's
+            tachometer RMS added to it (Python's `random.Random(20261801)`, one stream over the
+            cases in the set's order); decimated by 10.
 
 Only the standard library.  OUT_DIR must not be inside the repository (the copies of a set
 that is not the project's must not be committed), must not overlap SET_DIR, and must not
@@ -16,41 +22,92 @@ already hold a variant: nothing is overwritten, and each variant is written whol
 """
 import csv
 import json
+import math
 import os
-import shutil
+import random
 import sys
 
+def rows_as(edit):
+    """A variant's record edit from one on the data rows alone (the header kept)."""
+    return lambda header, rows, rng: (header, edit(rows))
+
+
+def without(column):
+    """Drops `column` (by its header name) from a record."""
+    def edit(header, rows, rng):
+        i = header.index(column)
+        return header[:i] + header[i + 1:], [r[:i] + r[i + 1:] for r in rows]
+    return edit
+
+
+def noisier(column, level):
+    """Adds white noise of `level` times the column's RMS to `column`, drawn from `rng`."""
+    def edit(header, rows, rng):
+        i = header.index(column)
+        x = [float(r[i]) for r in rows]
+        s = level * math.sqrt(sum(v * v for v in x) / len(x))
+        return header, [r[:i] + [repr(v + rng.gauss(0.0, s))] + r[i + 1:] for r, v in zip(rows, x)]
+    return edit
+
+
+def as_is(text):
+    return text
+
+
+def without_tachometer(text):
+    """The model file reading the potentiometer and the strain gauge only."""
+    full = "outputs: [Potentiometer, Tachometer, StrainGauge]"
+    if full not in text:
+        raise ValueError(f"the model file does not read `{full}`")
+    return text.replace(full, "outputs: [Potentiometer, StrainGauge]")
+
+
+# name: (CLI options, record edit (header, rows, rng) -> (header, rows), model file edit)
 VARIANTS = {
-    "v128": ([], lambda rows: rows),
-    "trunc15": (["--decimate", "10"], lambda rows: [r for r in rows if float(r[0]) < 15.0]),
-    "sub2": (["--decimate", "5"], lambda rows: rows[::2]),
-    "dec5": (["--decimate", "5"], lambda rows: rows),
+    "v128": ([], rows_as(lambda rows: rows), as_is),
+    "trunc15": (["--decimate", "10"], rows_as(lambda rows: [r for r in rows if float(r[0]) < 15.0]), as_is),
+    "sub2": (["--decimate", "5"], rows_as(lambda rows: rows[::2]), as_is),
+    "dec5": (["--decimate", "5"], rows_as(lambda rows: rows), as_is),
+    "notach": (["--decimate", "10"], without("theta_dot"), without_tachometer),
+    "noisytach": (["--decimate", "10"], noisier("theta_dot", 0.03), as_is),
 }
+NOISE_SEED = 20261801
 
 
-def variant(set_dir, out, args, rows_of):
-    """Writes one variant of `set_dir` to `out`: the models as they are, each record's rows
-    passed through `rows_of`, every case's CLI options replaced by `args`.  Written to a
-    sibling folder first (which main() checked is absent) and renamed when whole, so `out` is
-    complete or absent."""
+def variant(set_dir, out, args, edit_record, edit_model):
+    """Writes one variant of `set_dir` to `out`: each case's model file passed through
+    `edit_model`, its record through `edit_record`, and its CLI options replaced by `args`.
+    Written to a sibling folder first (which main() checked is absent) and renamed when whole,
+    so `out` is complete or absent."""
     partial = out + ".partial"
     os.makedirs(os.path.join(partial, "data"))
-    shutil.copytree(os.path.join(set_dir, "models"), os.path.join(partial, "models"))
+    os.makedirs(os.path.join(partial, "models"))
     with open(os.path.join(set_dir, "truth.json")) as f:
         truth = json.load(f)
+    rng = random.Random(NOISE_SEED)
     for case in truth["cases"]:
-        # A record is written inside the variant only: a `data` path that is absolute or climbs
+        # A record or model is written inside the variant only: a path that is absolute or climbs
         # out with `..` would otherwise land anywhere, the set read included.
-        target = os.path.realpath(os.path.join(partial, case["data"]))
-        if not inside(target, os.path.realpath(os.path.join(partial, "data"))):
-            sys.exit(f"{set_dir}/truth.json: case {case.get('name')!r} has data {case['data']!r} outside "
-                     f"its data/ folder; nothing of {out} is kept but {partial}")
+        for key, folder in (("data", "data"), ("model", "models")):
+            target = os.path.realpath(os.path.join(partial, case[key]))
+            if not inside(target, os.path.realpath(os.path.join(partial, folder))):
+                sys.exit(f"{set_dir}/truth.json: case {case.get('name')!r} has {key} {case[key]!r} outside "
+                         f"its {folder}/ folder; nothing of {out} is kept but {partial}")
+        with open(os.path.join(set_dir, case["model"])) as f:
+            model = f.read()
+        try:
+            model = edit_model(model)
+        except ValueError as e:
+            sys.exit(f"{set_dir}/{case['model']}: {e}; nothing of {out} is kept but {partial}")
+        with open(os.path.join(partial, case["model"]), "w") as f:
+            f.write(model)
         with open(os.path.join(set_dir, case["data"]), newline="") as f:
             rows = list(csv.reader(f))
-        with open(target, "w", newline="") as f:
+        header, body = edit_record(rows[0], rows[1:], rng)
+        with open(os.path.join(partial, case["data"]), "w", newline="") as f:
             w = csv.writer(f)
-            w.writerow(rows[0])
-            w.writerows(rows_of(rows[1:]))
+            w.writerow(header)
+            w.writerows(body)
         case["args"] = args
     truth["conditions"] = {"from": os.path.abspath(set_dir), "args": args}
     with open(os.path.join(partial, "truth.json"), "w") as f:
@@ -81,8 +138,8 @@ def main():
                 sys.exit(f"refusing to write {path}: it overlaps the set read, {set_dir}; choose another OUT_DIR")
             if os.path.lexists(path):
                 sys.exit(f"{path} exists; remove it or choose another OUT_DIR (nothing is overwritten)")
-    for name, (args, rows_of) in VARIANTS.items():
-        variant(set_dir, outs[name], args, rows_of)
+    for name, (args, edit_record, edit_model) in VARIANTS.items():
+        variant(set_dir, outs[name], args, edit_record, edit_model)
         print(f"wrote {os.path.join(out_dir, name)} ({' '.join(args) or 'no --decimate'})")
 
 
