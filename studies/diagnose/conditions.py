@@ -32,10 +32,17 @@ def rows_as(edit):
     return lambda header, rows, rng: (header, edit(rows))
 
 
+def column_of(header, column):
+    """The index of `column` in a record's header."""
+    if column not in header:
+        raise ValueError(f"no `{column}` column in the header {','.join(header)}")
+    return header.index(column)
+
+
 def without(column):
     """Drops `column` (by its header name) from a record."""
     def edit(header, rows, rng):
-        i = header.index(column)
+        i = column_of(header, column)
         return header[:i] + header[i + 1:], [r[:i] + r[i + 1:] for r in rows]
     return edit
 
@@ -43,7 +50,7 @@ def without(column):
 def noisier(column, level):
     """Adds white noise of `level` times the column's RMS to `column`, drawn from `rng`."""
     def edit(header, rows, rng):
-        i = header.index(column)
+        i = column_of(header, column)
         x = [float(r[i]) for r in rows]
         s = level * math.sqrt(sum(v * v for v in x) / len(x))
         return header, [r[:i] + [repr(v + rng.gauss(0.0, s))] + r[i + 1:] for r, v in zip(rows, x)]
@@ -103,7 +110,12 @@ def variant(set_dir, out, args, edit_record, edit_model):
             f.write(model)
         with open(os.path.join(set_dir, case["data"]), newline="") as f:
             rows = list(csv.reader(f))
-        header, body = edit_record(rows[0], rows[1:], rng)
+        try:
+            if not rows[1:]:
+                raise ValueError("no data rows")
+            header, body = edit_record(rows[0], rows[1:], rng)
+        except ValueError as e:
+            sys.exit(f"{set_dir}/{case['data']}: {e}; nothing of {out} is kept but {partial}")
         with open(os.path.join(partial, case["data"]), "w", newline="") as f:
             w = csv.writer(f)
             w.writerow(header)

@@ -103,6 +103,12 @@ impl Trial {
         self.alternatives.push(effect.into());
         self
     }
+
+    /// Adds a mode's other starts in `seed`'s range ([`Seed::other_starts`]), the mode at
+    /// frequency f being `at(f)`.
+    fn or_from_other_starts<E: Into<ModelEffect>>(self, seed: &Seed, at: impl Fn(f64) -> E) -> Self {
+        seed.other_starts().fold(self, |t, f| t.or_from(at(f)))
+    }
 }
 
 /// A resonance's frequency parameter and where the data may locate it.
@@ -152,17 +158,17 @@ impl Located {
 }
 
 impl Seed {
-    /// Where a mode's refit starts in the seed's range: at the seed, and a factor √2 either side
-    /// of it where the range reaches. Within a factor 2 of a closed-loop mode a coupled mode's
-    /// error has more than one valley (an inertia-coupled mode at 1.2 Hz beside the flexible
-    /// mode at 1.7 Hz has one at 1.5 Hz), and which one a refit from the seed alone falls into
-    /// depends on where ERA put the seed, to the percent.
-    fn starts(&self) -> Vec<f64> {
+    /// Where a mode's refit starts in the seed's range besides the seed itself: a factor √2
+    /// either side of it, where the range reaches. Within a factor 2 of a closed-loop mode a
+    /// coupled mode's error has more than one valley (an inertia-coupled mode at 1.2 Hz beside
+    /// the flexible mode at 1.7 Hz has one at 1.5 Hz), and which one a refit from the seed alone
+    /// falls into depends on where ERA put the seed, to the percent.
+    fn other_starts(&self) -> impl Iterator<Item = f64> {
         let (low, high) = self.range;
-        std::iter::once(self.frequency)
-            .chain([std::f64::consts::FRAC_1_SQRT_2, std::f64::consts::SQRT_2].map(|k| k * self.frequency))
-            .filter(|f| low < *f && *f < high)
-            .collect()
+        [std::f64::consts::FRAC_1_SQRT_2, std::f64::consts::SQRT_2]
+            .map(|k| k * self.frequency)
+            .into_iter()
+            .filter(move |f| low < *f && *f < high)
     }
 }
 

@@ -78,23 +78,15 @@ fn mode_trial(
         prefix,
         damping: ParamId::ExtraModeDamping.name(),
     };
-    let starts = seed.starts();
-    let at = |f: f64| match effect.clone() {
-        Effect::UnmodeledMode { damping_ratio, coupling, stiffness_coupling, damping_coupling, .. } => {
-            Effect::UnmodeledMode {
-                frequency_hz: f,
-                damping_ratio,
-                coupling,
-                stiffness_coupling,
-                damping_coupling,
-            }
+    let at = |f: f64| {
+        let mut e = effect.clone();
+        if let Effect::UnmodeledMode { frequency_hz, .. } = &mut e {
+            *frequency_hz = f;
         }
-        other => other,
+        e
     };
-    let mut t = trial(at(starts[0]), located.label(seed.frequency), bounds, strength);
-    for &f in &starts[1..] {
-        t = t.or_from(at(f));
-    }
+    let mut t = trial(at(seed.frequency), located.label(seed.frequency), bounds, strength)
+        .or_from_other_starts(seed, at);
     t.located = Some(located);
     t
 }

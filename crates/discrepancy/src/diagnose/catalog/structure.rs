@@ -256,10 +256,8 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
                     .collect(),
             )],
             &outputs,
-        );
-        for &f in &seed.starts()[1..] {
-            t = t.or_from(at(f));
-        }
+        )
+        .or_from_other_starts(&seed, at);
         t.located = Some(located);
         out.push(t);
     }
