@@ -8,7 +8,9 @@
 //! rig with a Coulomb friction (and each response's outputs alone, what a fit's trial point costs
 //! before it is accepted), and a whole diagnosis of the independent backlash record
 //! (`fixtures/independent/effects/slewing_backlash.csv`, decimated to 12.8 Hz) and of the record
-//! with a heavily damped mode the search follows from its seeds (`slewing_damped_mode.csv`).
+//! with a heavily damped mode the search follows from its seeds (`slewing_damped_mode.csv`), and
+//! of a current clamp in coloured noise, whose saturation trials are refitted from the catalog's
+//! limiter and from a clamp (`slewing_clamp_coloured.csv`).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use discrepancy::{DiagnoseOptions, diagnose, quantization};
@@ -96,8 +98,9 @@ fn bench_backlash(c: &mut Criterion) {
     let model = Model::load(&fixture("slewing.ron")).unwrap();
     let mut options = DiagnoseOptions::new(&["cv", "kp"]);
     options.decimate = Some(10);
-    // The dearest effect, and a heavily damped mode the search follows from its seeds.
-    for record in ["slewing_backlash", "slewing_damped_mode"] {
+    // The dearest effect, a heavily damped mode the search follows from its seeds, and a clamp
+    // (a named saturation, with its knee test).
+    for record in ["slewing_backlash", "slewing_damped_mode", "slewing_clamp_coloured"] {
         let data =
             mem::Measurement::read_csv(&fixture(&format!("independent/effects/{record}.csv"))).unwrap();
         group.bench_function(format!("diagnose/{record}_12.8Hz"), |b| {

@@ -15,6 +15,11 @@ usage: python3 studies/diagnose/conditions.py SET_DIR OUT_DIR
 * `noisytach` the tachometer noisier than the rest: white noise of 3 % of each record's
             tachometer RMS added to it (Python's `random.Random(20261801)`, one stream over the
             cases in the set's order); decimated by 10.
+* `nogauge` a rig without a strain gauge: the model files read the potentiometer and the
+            tachometer only, the records lose their `strain` column; decimated by 10.
+* `ar1all`  coloured noise added to every sensor: AR(1) with ρ = 0.9 and a stationary standard
+            deviation of 1 % of each column's RMS (the same stream as `noisytach`); decimated
+            by 10.
 
 Only the standard library.  OUT_DIR must not be inside the repository (the copies of a set
 that is not the project's must not be committed), must not overlap SET_DIR, and must not
@@ -57,16 +62,36 @@ def noisier(column, level):
     return edit
 
 
+def coloured(columns, level, rho):
+    """Adds AR(1) noise (lag-one correlation `rho`, stationary standard deviation `level` times
+    the column's RMS) to each of `columns`, drawn from `rng`, started in its stationary law."""
+    def edit(header, rows, rng):
+        for column in columns:
+            i = column_of(header, column)
+            x = [float(r[i]) for r in rows]
+            s = level * math.sqrt(sum(v * v for v in x) / len(x))
+            e, noisy = rng.gauss(0.0, s), []
+            for v in x:
+                noisy.append(v + e)
+                e = rho * e + rng.gauss(0.0, s * math.sqrt(1.0 - rho * rho))
+            rows = [r[:i] + [repr(v)] + r[i + 1:] for r, v in zip(rows, noisy)]
+        return header, rows
+    return edit
+
+
 def as_is(text):
     return text
 
 
-def without_tachometer(text):
-    """The model file reading the potentiometer and the strain gauge only."""
+def reading(outputs):
+    """The model file reading `outputs` only, in place of the three sensors."""
     full = "outputs: [Potentiometer, Tachometer, StrainGauge]"
-    if full not in text:
-        raise ValueError(f"the model file does not read `{full}`")
-    return text.replace(full, "outputs: [Potentiometer, StrainGauge]")
+
+    def edit(text):
+        if full not in text:
+            raise ValueError(f"the model file does not read `{full}`")
+        return text.replace(full, f"outputs: [{', '.join(outputs)}]")
+    return edit
 
 
 # name: (CLI options, record edit (header, rows, rng) -> (header, rows), model file edit)
@@ -75,8 +100,10 @@ VARIANTS = {
     "trunc15": (["--decimate", "10"], rows_as(lambda rows: [r for r in rows if float(r[0]) < 15.0]), as_is),
     "sub2": (["--decimate", "5"], rows_as(lambda rows: rows[::2]), as_is),
     "dec5": (["--decimate", "5"], rows_as(lambda rows: rows), as_is),
-    "notach": (["--decimate", "10"], without("theta_dot"), without_tachometer),
+    "notach": (["--decimate", "10"], without("theta_dot"), reading(["Potentiometer", "StrainGauge"])),
     "noisytach": (["--decimate", "10"], noisier("theta_dot", 0.03), as_is),
+    "nogauge": (["--decimate", "10"], without("strain"), reading(["Potentiometer", "Tachometer"])),
+    "ar1all": (["--decimate", "10"], coloured(["theta", "theta_dot", "strain"], 0.01, 0.9), as_is),
 }
 NOISE_SEED = 20261801
 

@@ -33,10 +33,15 @@ use plant::EffectKind;
 /// 2^{−1/n} of the clamp at the limit, 1.4 % for n = 50, and closer elsewhere.
 pub(super) const CLAMP_KNEE: f64 = 50.0;
 
+/// The knee of the catalog's limiter, x/(1 + |x/L|⁸)^{1/8} ([`plant::smooth_limit`]).
+const CATALOG_KNEE: f64 = 8.0;
+
 /// The knee test of a named saturation ([`SaturationKnee`]), refitted from the test's reference
 /// (which lacks the saturation) with the candidate's values; when the data demand the knee, the
-/// candidate's model, refit and parameters become those with it. `None` for any other
-/// candidate, a limiter that already has a knee, or when a refit fails.
+/// candidate's model, refit and parameters become those with it. Where the trial's clamp start
+/// fitted best and the knee is not demanded, they become the catalog's limiter's, refitted from
+/// the clamp's level. `None` for any other candidate, a trial whose limiter has a knee of its
+/// own, or when a refit fails.
 pub(super) fn knee(candidate: &mut Candidate, trial: &Trial, test: &FormTest) -> Option<SaturationKnee> {
     let FormTest { free, threshold, gain, .. } = *test;
     if !matches!(candidate.kind, EffectKind::AmplifierSaturation | EffectKind::VoltageSaturation) {
@@ -51,14 +56,35 @@ pub(super) fn knee(candidate: &mut Candidate, trial: &Trial, test: &FormTest) ->
     // other value the candidate's fit, in the candidate's ranges, the limit's wider one beside a
     // knee, and the knee's.
     let knee_bounds = [(limit_name.clone(), limit_range), (knee_name.clone(), knee_range)];
+    // The limiter at `knee` (set after the candidate's values are copied: a candidate refitted
+    // from the trial's clamp start carries a knee of its own).
+    let at = |knee: f64, bounds: &mut dyn Iterator<Item = &(String, (f64, f64))>| {
+        let mut model = test.reference_with(search.limiter_with(limit, knee), fitted, bounds)?;
+        model.set(&knee_name, knee).ok()?;
+        Some(model)
+    };
     let with_knee = |knee: f64| {
-        let limiter = search.limiter_with(limit, knee.clamp(knee_range.0, knee_range.1));
-        let bounds = trial.bounds.iter().filter(|(name, _)| *name != limit_name).chain(&knee_bounds);
-        test.reference_with(limiter, fitted, bounds)
+        let knee = knee.clamp(knee_range.0, knee_range.1);
+        at(knee, &mut trial.bounds.iter().filter(|(name, _)| *name != limit_name).chain(&knee_bounds))
+    };
+    // The form the knee is measured against is the catalog's limiter: the candidate as it is,
+    // or, where the trial's clamp start fitted best, the catalog's limiter refitted from the
+    // clamp's level in the trial's ranges.
+    let from_clamp = fitted.value(&knee_name).is_ok();
+    let catalog_form = if from_clamp { Some(at(CATALOG_KNEE, &mut trial.bounds.iter())?) } else { None };
+    // From a clamp, the sharp start is the clamp itself (its refit is already there).
+    let starts: Vec<f64> = match from_clamp {
+        true => search.knee_starts.iter().take(1).copied().chain([knee_range.1]).collect(),
+        false => search.knee_starts.clone(),
     };
     let named: Vec<String> = free.iter().chain(&trial.freed).cloned().collect();
-    let (as_named, best) =
-        test.refit_pair(fitted, &named, std::slice::from_ref(&knee_name), &search.knee_starts, with_knee)?;
+    let (as_named, best) = test.refit_pair(
+        catalog_form.as_ref().unwrap_or(fitted),
+        &named,
+        std::slice::from_ref(&knee_name),
+        &starts,
+        with_knee,
+    )?;
     let added = gain(&best) - gain(&as_named);
     // A knee of CLAMP_KNEE or more is a clamp: the data ask for a limiter at least that sharp,
     // and sharper ones are barely told apart (the knee's standard error grows without bound
@@ -76,6 +102,11 @@ pub(super) fn knee(candidate: &mut Candidate, trial: &Trial, test: &FormTest) ->
         candidate.parameters = run::effect_parameters(&best, &wider);
         candidate.model = Some(best.fitted.clone());
         candidate.outcome = Some(best);
+    } else if from_clamp {
+        // Not demanded: the named saturation is the catalog's limiter, as the report says.
+        candidate.parameters = run::effect_parameters(&as_named, trial);
+        candidate.model = Some(as_named.fitted.clone());
+        candidate.outcome = Some(as_named);
     }
     Some(result)
 }

@@ -127,6 +127,10 @@ pub(super) fn static_peak(model: &SlewingModel, smoothing_velocity: f64) -> supe
     }
 }
 
+/// The sharpest knee a limiter is given: the clamp end of the family x/(1 + |x/L|ⁿ)^{1/n}
+/// (within 0.35 % of the clamp at the limit), the trial's clamp start and the knee's bound.
+const SHARPEST_KNEE: f64 = 200.0;
+
 /// Where a named saturation's knee is looked for ([`super::KneeSearch`]): n from 1 (a limiter
 /// as soft as x/(1 + |x/L|)) to 200 (within 0.35 % of the clamp at the limit; at 50, 1.4 %
 /// left the limit of the blind set's clamps 1–2 % high, 4–6 standard errors), started at 2 (the
@@ -141,7 +145,7 @@ pub(super) fn knee(model: &SlewingModel, kind: EffectKind) -> super::KneeSearch 
         _ => (ParamId::CurrentKnee, ParamId::CurrentLimit, s.demand_current),
     };
     super::KneeSearch {
-        knee: (id.name(), (1.0, 200.0)),
+        knee: (id.name(), (1.0, SHARPEST_KNEE)),
         limit: (limit.name(), (0.01 * demand, 10.0 * demand)),
         knee_starts: vec![2.0, 50.0],
         kind,
@@ -414,7 +418,15 @@ fn backlash(s: &Scales, model: &SlewingModel) -> Vec<Trial> {
         .collect()
 }
 
-/// The catalog's saturation trial of `kind` (amplifier current or voltage limit).
+/// The catalog's saturation trial of `kind` (amplifier current or voltage limit): the
+/// catalog's limiter (knee n = 8) from half the demand at θ(0), and the limiter at the other
+/// end of its family, a clamp (n = 200), from 0.9 of it; the refit keeps the better. A clamp
+/// that acts on the first peak alone (0.97 of the demand) is hundreds of nats away from the
+/// catalog's limiter at its level, and with less information in the record (coloured noise, a
+/// rig without a strain gauge) the n = 8 refit slides to a limit above the demand, where it
+/// bends every peak a little as a softening spring does, and the clamp's level is not found.
+/// Which form fitted is settled by the knee test of a named saturation
+/// ([`crate::diagnose::saturation`]).
 fn out_of(s: &Scales, kind: EffectKind) -> Trial {
     match kind {
         EffectKind::VoltageSaturation => trial(
@@ -426,7 +438,7 @@ fn out_of(s: &Scales, kind: EffectKind) -> Trial {
         .or_from(Effect::VoltageSaturation {
             voltage_limit: 0.9 * s.demand_voltage,
             sharp: false,
-            knee: None,
+            knee: Some(SHARPEST_KNEE),
         }),
         _ => trial(
             Effect::AmplifierSaturation { current_limit: 0.5 * s.demand_current, sharp: false, knee: None },
@@ -437,7 +449,7 @@ fn out_of(s: &Scales, kind: EffectKind) -> Trial {
         .or_from(Effect::AmplifierSaturation {
             current_limit: 0.9 * s.demand_current,
             sharp: false,
-            knee: None,
+            knee: Some(SHARPEST_KNEE),
         }),
     }
 }
