@@ -44,6 +44,11 @@ def column_of(header, column):
     return header.index(column)
 
 
+def rms(x):
+    """The root mean square of the readings `x`."""
+    return math.sqrt(sum(v * v for v in x) / len(x))
+
+
 def without(column):
     """Drops `column` (by its header name) from a record."""
     def edit(header, rows, rng):
@@ -57,7 +62,7 @@ def noisier(column, level):
     def edit(header, rows, rng):
         i = column_of(header, column)
         x = [float(r[i]) for r in rows]
-        s = level * math.sqrt(sum(v * v for v in x) / len(x))
+        s = level * rms(x)
         return header, [r[:i] + [repr(v + rng.gauss(0.0, s))] + r[i + 1:] for r, v in zip(rows, x)]
     return edit
 
@@ -69,7 +74,7 @@ def coloured(columns, level, rho):
         for column in columns:
             i = column_of(header, column)
             x = [float(r[i]) for r in rows]
-            s = level * math.sqrt(sum(v * v for v in x) / len(x))
+            s = level * rms(x)
             e, noisy = rng.gauss(0.0, s), []
             for v in x:
                 noisy.append(v + e)
