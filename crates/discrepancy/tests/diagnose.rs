@@ -184,6 +184,31 @@ fn a_clamp_in_coloured_noise_is_found_at_its_level() {
     assert!(saturation.evidence.held_out.is_some_and(|g| g > 100.0), "{:?}", saturation.evidence);
 }
 
+/// A current clamp at 0.97 of the demand read through the potentiometer and the tachometer
+/// alone (`fixtures/independent/slewing_clamp_no_gauge.py`), with the model file's mass per
+/// length 5 % heavy (0.61 against the truth's 0.5792): the reference frees ρ beside K_p, and
+/// through θ and θ̇ alone the two scale the loop's torques and the inertia together, so the
+/// clamp's level is poorly determined (± 0.8 A) while its depth below the demand is not. The
+/// strength is that depth's distance from "no effect"; measured on the level alone it was 2 σ,
+/// and the clamp (ΔBIC −250, 0.89 of the structure) was `unresolved` and the answer `none`.
+#[test]
+fn a_clamp_read_without_the_strain_gauge_is_resolved_by_its_depth_below_the_demand() {
+    let d = decimated_fixture_from("slewing_clamp_no_gauge", |t| {
+        t.replace("outputs: [Potentiometer, Tachometer, StrainGauge]", "outputs: [Potentiometer, Tachometer]")
+            .replace("mass_per_length: 0.5792,", "mass_per_length: 0.61,")
+    });
+    assert!(d.mismatch_parameters.iter().any(|p| p == "rho"), "ρ is freed: {:?}", d.mismatch_parameters);
+    let named = d.named().expect("a clamp of a hundred nats held out is named");
+    assert!(
+        matches!(named.label.as_str(), "amplifier_saturation" | "voltage_saturation"),
+        "{:?}",
+        d.answer()
+    );
+    let saturation = d.candidates.iter().find(|c| c.label == "amplifier_saturation").expect("tried");
+    assert!(saturation.evidence.strength_z > 10.0, "{:?}", saturation.evidence);
+    assert!(saturation.evidence.held_out.is_some_and(|g| g > 50.0), "{:?}", saturation.evidence);
+}
+
 /// An amplifier voltage limited softly, V tanh(u/V) with V = 6 V against a demand of 7.65 V (a
 /// form outside the limiter's family; `fixtures/independent/slewing_hub_torques.py`),
 /// decimated to 12.8 Hz: named a saturation, with a soft knee demanded and carried (n well

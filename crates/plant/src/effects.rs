@@ -28,9 +28,10 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum EffectKind {
-    /// A limit on the armature current.
+    /// A limit on the armature current; in diagnosis also the amplifier's saturation where the
+    /// data do not say which quantity it limits.
     AmplifierSaturation,
-    /// A limit on the amplifier's output voltage.
+    /// A limit on the amplifier's output voltage (the back-EMF still acts beyond it).
     VoltageSaturation,
     /// Dry friction at the hub.
     CoulombFriction,

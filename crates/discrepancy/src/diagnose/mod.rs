@@ -6,7 +6,8 @@
 //! 1. its refit improves the in-sample likelihood beyond the BIC penalty of its parameters
 //!    (ΔBIC < −10, "very strong" on the Kass–Raftery scale);
 //! 2. its strength is resolved from "no effect" (|z| ≥ 3 with the fit's standard error, which
-//!    carries the residual's correlation);
+//!    carries the residual's correlation; for a limit, the standard error of its depth below
+//!    the loop's demand, whose factor K_p is fitted too);
 //! 3. fitted on alternate blocks of the record, it predicts the other blocks better than the
 //!    baseline does, by more than the threshold (held-out log-likelihood, [`evidence`]);
 //! 4. it still does so when the model's own linear parameters (modal damping, hub inertia,
@@ -57,6 +58,14 @@
 //! x/(1 + |x/L|ⁿ)^{1/n} free (the catalog's is n = 8; n = 2 a soft limit, n → ∞ a clamp):
 //! where L is determined, n is determined or at least 50 (a clamp), and the knee gains at least
 //! the threshold in sample, the named saturation carries it ([`SaturationKnee`], module `saturation`). The name does not change.
+//!
+//! Of the candidates that pass, the one with the most held-out evidence is named; among those
+//! whose held-out gains lie within the threshold of the best (not told apart), the one whose
+//! strength is resolved by the most standard errors. A candidate that makes a further claim
+//! than a passing sibling is named only where the data make it: a voltage limit, which says
+//! which quantity the amplifier limits (so the back-EMF acts beyond it), only where its held-out
+//! gain leads the current limit's by the threshold; otherwise the broader
+//! `amplifier_saturation` (module `named`).
 //!
 //! Sensor quantization is a measurement model, not a force: it is named when the raw readings
 //! of a sensor lie on a lattice while the signal moves, with a step comparable to the noise or

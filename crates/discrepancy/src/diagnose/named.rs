@@ -234,10 +234,39 @@ pub(super) fn not_told_apart(candidates: &[Candidate], threshold: f64) -> Vec<us
         .collect()
 }
 
+/// The broader name of an effect that makes a further claim: a voltage limit is a saturation
+/// of the amplifier that says, in addition, which quantity it limits (the output voltage, so
+/// that the back-EMF still acts beyond it). `amplifier_saturation` names the amplifier's
+/// saturation whichever it limits, refitted as its current limit (the paper's amplifier).
+fn broader(kind: EffectKind) -> Option<EffectKind> {
+    match kind {
+        EffectKind::VoltageSaturation => Some(EffectKind::AmplifierSaturation),
+        _ => None,
+    }
+}
+
+/// The further claim is named only where the data make it: where the broader candidate passed
+/// too and the chosen one's held-out gain leads it by less than the threshold, the broader one
+/// is named instead (a current and a voltage limit differ only where the motor runs fast while
+/// limited, and a record that barely reaches there does not tell them apart).
+fn unless_told_apart(candidates: &[Candidate], chosen: usize, threshold: f64) -> usize {
+    let Some(kind) = broader(candidates[chosen].kind) else { return chosen };
+    let held_out = |c: &Candidate| c.evidence.held_out.unwrap_or(f64::NEG_INFINITY);
+    let lead = held_out(&candidates[chosen]);
+    candidates
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.kind == kind && matches!(c.verdict, Verdict::Outscored | Verdict::Named))
+        .filter(|(_, c)| lead - held_out(c) < threshold)
+        .max_by(|(_, a), (_, b)| held_out(a).total_cmp(&held_out(b)))
+        .map_or(chosen, |(i, _)| i)
+}
+
 /// The named candidate: a proven lattice that matters first (a measurement fact), else the
 /// candidate with the most held-out evidence beyond a mismatch among those that pass — among
 /// those whose held-out gains are closer than the threshold (not told apart), the one whose
-/// strength is resolved from "no effect" by the most standard errors.
+/// strength is resolved from "no effect" by the most standard errors, or its broader name
+/// where that makes a further claim the data do not decide ([`unless_told_apart`]).
 pub(super) fn choose(candidates: &[Candidate], threshold: f64) -> Option<usize> {
     let lattice = candidates
         .iter()
@@ -264,7 +293,7 @@ pub(super) fn choose(candidates: &[Candidate], threshold: f64) -> Option<usize> 
                     .total_cmp(&b.evidence.strength_z)
                     .then(b.evidence.delta_bic.total_cmp(&a.evidence.delta_bic))
             })
-            .map(|(i, _)| i)
+            .map(|(i, _)| unless_told_apart(candidates, i, threshold))
     })
 }
 
@@ -319,5 +348,31 @@ mod tests {
         let all = [best, named, behind];
         assert_eq!(choose(&all, 10.0), Some(1));
         assert_eq!(not_told_apart(&all, 10.0), vec![0, 1]);
+    }
+
+    /// The blind set's strong current clamp s2 under AR(1) noise on every sensor (docs/diagnose.md,
+    /// "Other acquisition conditions"): the voltage limit 0.6 nats ahead held out and 0.4 σ
+    /// better resolved. The data do not say which quantity the amplifier limits, so the
+    /// amplifier's saturation is named; the demo's voltage limit, 18.8 nats ahead, is named.
+    #[test]
+    fn a_voltage_limit_is_named_only_where_it_is_told_from_a_current_limit() {
+        let current = passing(EffectKind::AmplifierSaturation, 955.33, -2000.0, 153.84);
+        let voltage = passing(EffectKind::VoltageSaturation, 955.95, -2001.0, 154.27);
+        assert_eq!(choose(&[current.clone(), voltage.clone()], 10.0), Some(0));
+        assert_eq!(choose(&[voltage.clone(), current.clone()], 10.0), Some(1));
+        // Told apart: the demo's first step.
+        let (current, voltage) = (
+            passing(EffectKind::AmplifierSaturation, 3226.05, -6000.0, 4269.8),
+            passing(EffectKind::VoltageSaturation, 3244.85, -6040.0, 4659.1),
+        );
+        assert_eq!(choose(&[current.clone(), voltage.clone()], 10.0), Some(1));
+        // The broader name must have passed itself.
+        let mut failed = passing(EffectKind::AmplifierSaturation, 955.33, -2000.0, 153.84);
+        failed.verdict = Verdict::Superficial;
+        let voltage = passing(EffectKind::VoltageSaturation, 955.95, -2001.0, 154.27);
+        assert_eq!(choose(&[failed, voltage.clone()], 10.0), Some(1));
+        // A current limit ahead is named as before, and a narrower name is never put for it.
+        let ahead = passing(EffectKind::AmplifierSaturation, 960.0, -2003.0, 160.0);
+        assert_eq!(choose(&[voltage, ahead], 10.0), Some(1));
     }
 }

@@ -2,7 +2,7 @@
 //! baseline and the shortlist on each fold, with and without the model's own parameters free.
 
 use super::answer::{EffectParameter, last_error};
-use super::catalog::{Located, Trial};
+use super::catalog::{Located, Strength, Trial};
 use super::evidence::{LikelihoodFit, block_length, folds};
 use crate::WorkflowError;
 use crate::stats::ljung_box;
@@ -286,9 +286,15 @@ pub fn strength_z(outcome: &FitOutcome, trial: &Trial) -> f64 {
             s.names()
                 .into_iter()
                 .map(|name| {
-                    index(name).map_or(0.0, |i| match report.statistics.conditional_std_error(i, &shape) {
-                        Some(se) if se > 0.0 => s.z(report.parameters[i], se, &outcome.fitted),
-                        _ => 0.0,
+                    index(name).map_or(0.0, |i| {
+                        match (s, report.statistics.conditional_std_error(i, &shape)) {
+                            (Strength::Limit(_, demand), Some(se)) if se > 0.0 && shape.is_empty() => {
+                                limit_z(outcome, i, *demand)
+                                    .unwrap_or_else(|| s.z(report.parameters[i], se, &outcome.fitted))
+                            }
+                            (_, Some(se)) if se > 0.0 => s.z(report.parameters[i], se, &outcome.fitted),
+                            _ => 0.0,
+                        }
                     })
                 })
                 .fold(f64::NEG_INFINITY, f64::max)
@@ -296,6 +302,57 @@ pub fn strength_z(outcome: &FitOutcome, trial: &Trial) -> f64 {
         .fold(f64::INFINITY, f64::min)
         .min(pole)
         .min(1e6)
+}
+
+/// A limit's distance from "no effect" ([`Strength::Limit`]: 1.5× the demand) in standard
+/// errors of its depth below the demand, r = L/D: the demand D = G K_p θ(0)/R_a (or G K_p θ(0))
+/// is the fitted model's, and where its factors are fitted too, their errors are the limit's
+/// reference's. Through θ and θ̇ alone a record fixes the loop's torques only relative to its
+/// inertia (the beam's mass per length freed beside K_p scales both), so a clamp's level L and
+/// K_p move together, each poorly determined (the blind set's medium current clamp read without
+/// its strain gauge: L = 2.75 ± 0.67 A, K_p ± 24 %, ΔBIC −252), while how deep the limit cuts
+/// into the demand is what the record shows. By the delta method, σ_r/r = √(gᵀΣg) with
+/// g = e_L/L − ∇ln D over the fitted parameters (∇ln D by a relative step in each; the
+/// covariance is the fit's, sandwich included), and z = (1.5 − r)/σ_r. With no factor of D
+/// fitted this is (1.5 D − L)/σ_L. None where a needed covariance entry is not determined (the
+/// caller then uses σ_L alone).
+fn limit_z(outcome: &FitOutcome, i: usize, demand: super::catalog::Demand) -> Option<f64> {
+    let report = &outcome.report;
+    let demand_of = |model: &Model| model.as_slewing().map(|m| demand.of(m));
+    let d = demand_of(&outcome.fitted)?;
+    let limit = report.parameters[i];
+    if !(d > 0.0 && limit > 0.0) {
+        return None;
+    }
+    let gradient: Vec<f64> = (0..report.names.len())
+        .map(|j| {
+            if j == i {
+                return Some(1.0 / limit);
+            }
+            let p = report.parameters[j];
+            let h = 1e-6 * p.abs().max(1e-6);
+            let mut moved = outcome.fitted.clone();
+            moved.set(&report.names[j], p + h).ok()?;
+            Some(-(demand_of(&moved)? / d).ln() / h)
+        })
+        .collect::<Option<_>>()?;
+    let cov = &report.statistics.covariance;
+    let used: Vec<usize> = (0..gradient.len()).filter(|&j| gradient[j] != 0.0).collect();
+    if used.iter().any(|&j| j >= cov.nrows() || j >= cov.ncols()) {
+        return None;
+    }
+    let mut variance = 0.0;
+    for &a in &used {
+        for &b in &used {
+            let c = cov[(a, b)];
+            if !c.is_finite() {
+                return None;
+            }
+            variance += gradient[a] * c * gradient[b];
+        }
+    }
+    let r = limit / d;
+    (variance > 0.0).then(|| (1.5 - r) / (r * variance.sqrt()))
 }
 
 /// A parameter as a refit left it.
