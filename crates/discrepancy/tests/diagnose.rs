@@ -194,8 +194,9 @@ fn a_clamp_in_coloured_noise_is_found_at_its_level() {
 #[test]
 fn a_clamp_read_without_the_strain_gauge_is_resolved_by_its_depth_below_the_demand() {
     let d = decimated_fixture_from("slewing_clamp_no_gauge", |t| {
-        t.replace("outputs: [Potentiometer, Tachometer, StrainGauge]", "outputs: [Potentiometer, Tachometer]")
-            .replace("mass_per_length: 0.5792,", "mass_per_length: 0.61,")
+        let (gauge, rho) = ("outputs: [Potentiometer, Tachometer, StrainGauge]", "mass_per_length: 0.5792,");
+        assert!(t.contains(gauge) && t.contains(rho), "the model file's edits must take");
+        t.replace(gauge, "outputs: [Potentiometer, Tachometer]").replace(rho, "mass_per_length: 0.61,")
     });
     assert!(d.mismatch_parameters.iter().any(|p| p == "rho"), "ρ is freed: {:?}", d.mismatch_parameters);
     let named = d.named().expect("a clamp of a hundred nats held out is named");

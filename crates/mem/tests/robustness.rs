@@ -265,6 +265,44 @@ fn holding_a_bound_parameter_gives_the_standard_error_of_a_fit_without_it() {
     assert_eq!(stats.conditional_std_error(0, &[1]), None);
 }
 
+/// The delta method's standard error of a derived quantity, the ratio k/c, against its spread
+/// over 200 seeded noise realisations of the same record (independent of the covariance); the
+/// gradient e_i gives the parameter's own standard error, and a quantity that depends on a
+/// parameter held on its bound has none.
+#[test]
+fn a_derived_quantity_gets_the_delta_method_standard_error() {
+    let model = LinearResponse(Oscillator);
+    let clean = simulate_measurement(&model, &[0.2, 4.0], 0.05, 400, 0.0, 0);
+    let fit = Fit::new().with_covariance(mem::Covariance::White);
+    let run = |seed: u64| {
+        let data = add_noise(&clean, 0.01, seed);
+        let params = vec![
+            Parameter::new("c", 0.25).with_bounds(0.01, 1.0),
+            Parameter::new("k", 3.8).with_bounds(0.1, 100.0),
+        ];
+        fit.run(&Problem::new(vec![Experiment::new(&model, &data)], params).unwrap()).unwrap()
+    };
+    let report = run(1000);
+    let (c, k) = (report.parameters[0], report.parameters[1]);
+    let predicted = report.statistics.std_error_of(&[-k / (c * c), 1.0 / c]).unwrap();
+    let ratios: Vec<f64> = (0..200).map(run).map(|r| r.parameters[1] / r.parameters[0]).collect();
+    let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;
+    let spread = (ratios.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / (ratios.len() - 1) as f64).sqrt();
+    assert!((predicted / spread - 1.0).abs() < 0.2, "delta method {predicted} vs spread {spread}");
+    assert_eq!(report.statistics.std_error_of(&[0.0, 1.0]), report.std_error(1));
+    assert_eq!(report.statistics.std_error_of(&[1.0]), None, "one entry per parameter");
+    // c held on its lower bound: k/c has no standard error, k alone still has one.
+    let data = add_noise(&clean, 0.01, 9);
+    let bound = vec![
+        Parameter::new("c", 0.5).with_bounds(0.3, 1.0),
+        Parameter::new("k", 3.5).with_bounds(0.1, 100.0),
+    ];
+    let held = fit.run(&Problem::new(vec![Experiment::new(&model, &data)], bound).unwrap()).unwrap();
+    assert_eq!(held.on_bound[0], Some(Side::Lower));
+    assert_eq!(held.statistics.std_error_of(&[1.0, 1.0]), None);
+    assert!(held.statistics.std_error_of(&[0.0, 1.0]).is_some());
+}
+
 #[test]
 fn a_start_outside_the_bounds_is_refused_naming_the_parameter() {
     let model = LinearResponse(Oscillator);

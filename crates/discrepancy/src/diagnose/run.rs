@@ -312,8 +312,8 @@ pub fn strength_z(outcome: &FitOutcome, trial: &Trial) -> f64 {
 /// K_p move together, each poorly determined (the blind set's medium current clamp read without
 /// its strain gauge: L = 2.75 ± 0.67 A, K_p ± 24 %, ΔBIC −252), while how deep the limit cuts
 /// into the demand is what the record shows. By the delta method, σ_r/r = √(gᵀΣg) with
-/// g = e_L/L − ∇ln D over the fitted parameters (∇ln D by a relative step in each; the
-/// covariance is the fit's, sandwich included), and z = (1.5 − r)/σ_r. With no factor of D
+/// g = e_L/L − ∇ln D over the fitted parameters (∇ln D by a relative step in each;
+/// [`mem::Statistics::std_error_of`] over the fit's covariance, sandwich included), and z = (1.5 − r)/σ_r. With no factor of D
 /// fitted this is (1.5 D − L)/σ_L. None where a needed covariance entry is not determined (the
 /// caller then uses σ_L alone).
 fn limit_z(outcome: &FitOutcome, i: usize, demand: super::catalog::Demand) -> Option<f64> {
@@ -336,23 +336,9 @@ fn limit_z(outcome: &FitOutcome, i: usize, demand: super::catalog::Demand) -> Op
             Some(-(demand_of(&moved)? / d).ln() / h)
         })
         .collect::<Option<_>>()?;
-    let cov = &report.statistics.covariance;
-    let used: Vec<usize> = (0..gradient.len()).filter(|&j| gradient[j] != 0.0).collect();
-    if used.iter().any(|&j| j >= cov.nrows() || j >= cov.ncols()) {
-        return None;
-    }
-    let mut variance = 0.0;
-    for &a in &used {
-        for &b in &used {
-            let c = cov[(a, b)];
-            if !c.is_finite() {
-                return None;
-            }
-            variance += gradient[a] * c * gradient[b];
-        }
-    }
+    let relative = report.statistics.std_error_of(&gradient)?;
     let r = limit / d;
-    (variance > 0.0).then(|| (1.5 - r) / (r * variance.sqrt()))
+    Some((1.5 - r) / (r * relative))
 }
 
 /// A parameter as a refit left it.

@@ -270,6 +270,30 @@ pub(crate) fn analyse(
 }
 
 impl Statistics {
+    /// The standard error of a quantity derived from the parameters, whose gradient over them is
+    /// `gradient` (one entry per parameter): √(gᵀΣg), the delta method over [`Statistics::covariance`].
+    /// None where a parameter it depends on (gᵢ ≠ 0) has no determined covariance (undetermined
+    /// or held on a bound), where `gradient` has another length, or where the variance is not
+    /// positive.
+    pub fn std_error_of(&self, gradient: &[f64]) -> Option<f64> {
+        let cov = &self.covariance;
+        if gradient.len() != cov.nrows() || gradient.len() != cov.ncols() {
+            return None;
+        }
+        let used: Vec<usize> = (0..gradient.len()).filter(|&j| gradient[j] != 0.0).collect();
+        let mut variance = 0.0;
+        for &a in &used {
+            for &b in &used {
+                let c = cov[(a, b)];
+                if !c.is_finite() {
+                    return None;
+                }
+                variance += gradient[a] * c * gradient[b];
+            }
+        }
+        (variance > 0.0).then(|| variance.sqrt())
+    }
+
     /// The standard error of parameter `i` with the parameters `held` fixed at their estimates:
     /// σ²_i|H = Σ_ii − Σ_iH Σ_HH⁻¹ Σ_Hi, a Schur complement of the covariance (for independent
     /// errors, to first order the variance of a fit in which H were not free). A held parameter on a bound is
