@@ -75,6 +75,16 @@ pub enum WorkflowError {
         /// The readings needed.
         needed: usize,
     },
+    /// A setting of the diagnosis is outside its range.
+    #[error("diagnose setting `{field}` is {value}: it must be {need}")]
+    Setting {
+        /// The [`DiagnoseOptions`] field.
+        field: &'static str,
+        /// Its value.
+        value: f64,
+        /// What it must be.
+        need: &'static str,
+    },
 }
 
 /// The effect kinds `diagnose` tries (what `--only` accepts): the whole catalog but a sensor's

@@ -78,6 +78,63 @@ pub struct Rival {
     /// pairs of p outputs), which as a class weighs as one alternative; 0 for the model's own
     /// parameters and the other added terms, each an alternative of its own.
     pub penalty: f64,
+    /// For a rival of a named sensor scale: how far each account moves the model file's values
+    /// ([`Departures`]). `None` for the other effects and for an added term.
+    pub departures: Option<Departures>,
+}
+
+/// What two accounts of the same record ask of the model file: a sensor's calibration error,
+/// and one of the model's own parameters refitted in its place (step 7 of
+/// [module `diagnose`](mod@crate::diagnose)). Each value of the file, and the sensor's
+/// calibration (a gain of 1), is taken as known to a relative tolerance τ
+/// ([`super::DiagnoseOptions::file_tolerance`]), a log-normal prior; an account's refit is
+/// charged Σ ln²(p̂/p_file)/(2(τ² + σ²)) nats over the reference's mismatch parameters, the
+/// rival's own and the calibration's error, σ the relative standard error of p̂ in that refit
+/// (the prior's part of the refit's log evidence by Laplace's approximation, one parameter at a
+/// time: a value the record does not pin down costs little however far its estimate strays).
+/// The rival's in-sample gain is set against the effect's less the difference of the two
+/// charges ([`Departures::charge`]). One strain gauge read 4.6 % low, and a beam 5 % longer
+/// whose EI/ρ and ρ move by a fifth to keep its modes and inertia where the record puts them,
+/// explain the record alike; the file says which asks less.
+#[derive(Clone, Debug, Serialize)]
+pub struct Departures {
+    /// What the rival's account asks of the file (nats).
+    pub rival: f64,
+    /// What the named effect's account asks of it, its calibration error included (nats).
+    pub effect: f64,
+    /// The relative tolerance τ the file's values are taken to be known to.
+    pub tolerance: f64,
+    /// The model file's values the two refits set more than 1 % apart, largest first.
+    pub moved: Vec<Moved>,
+}
+
+impl Departures {
+    /// The nats the rival's account is charged beyond the effect's: negative where the rival
+    /// asks less of the file.
+    pub fn charge(&self) -> f64 {
+        self.rival - self.effect
+    }
+}
+
+/// A value of the model file that two accounts set apart ([`Departures::moved`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct Moved {
+    /// Parameter name.
+    pub name: String,
+    /// The model file's value.
+    pub file: f64,
+    /// The rival's refit's value.
+    pub rival: f64,
+    /// The named effect's refit's value.
+    pub effect: f64,
+}
+
+impl Moved {
+    /// `name` +5.0 % in the rival's refit (`rival` true) or the effect's.
+    pub(super) fn described(&self, rival: bool) -> String {
+        let value = if rival { self.rival } else { self.effect };
+        format!("`{}` {:+.1} %", self.name, 100.0 * (value / self.file - 1.0))
+    }
 }
 
 impl Rival {
@@ -102,8 +159,12 @@ impl Rival {
     /// `effect_in_sample` (with no more parameters), to within [`RIVAL_MARGIN`], once charged
     /// its [`penalty`](Self::penalty): then the effect is not named
     /// ([`Verdict::MatchedByMismatch`]).
+    ///
+    /// Set against a named sensor scale, the rival is also charged what its account asks of the
+    /// model file beyond the scale's ([`Departures::charge`], negative where it asks less).
     pub fn unseats(&self, effect_in_sample: f64) -> bool {
-        self.in_sample - self.penalty + RIVAL_MARGIN > effect_in_sample
+        let charge = self.departures.as_ref().map_or(0.0, Departures::charge);
+        self.in_sample - self.penalty - charge + RIVAL_MARGIN > effect_in_sample
     }
 }
 

@@ -33,6 +33,15 @@
 //!    fault; the pair that best explains the reference's residual, charged ln p(p − 1) nats
 //!    for being the best of p(p − 1), module `crosstalk`). (For a sensor scale, the parameters
 //!    that scale its output alone are its exact equivalents and reported as such, not tried.)
+//!    Set against a named sensor scale, a rival of the model's own is also charged what its
+//!    account asks of the model file beyond the scale's ([`Departures`]): each file value, and
+//!    the sensor's calibration, taken as known to a relative tolerance τ
+//!    ([`DiagnoseOptions::file_tolerance`], 5 %), a refit is charged
+//!    Σ ln²(p̂/p_file)/(2(τ² + σ²)) nats over the reference's mismatch parameters, the rival and
+//!    the calibration error (σ the relative standard error of p̂ in the refit). A gauge read
+//!    4.6 % low and a beam 5 % longer whose EI/ρ and ρ move by a fifth to keep its modes and
+//!    inertia explain one strain gauge alike; a beam 3 % longer than the file says is the other
+//!    way round (the scale's refit moves EI/ρ and ρ, the length's restores them).
 //! 8. a symmetric spring (a structure's `cubic_stiffness` at coordinate c, or the slewing rig's
 //!    at the hub) is demanded neither to be asymmetric nor to change with time: refitted with
 //!    k₂q_c² or with k₁′·t·q_c beside its k₃q_c³ and a symmetric k₅q_c⁵, neither term is
@@ -81,6 +90,7 @@ mod named;
 mod quantized;
 mod report;
 mod residual;
+mod rivals;
 mod run;
 mod saturation;
 mod schedule;
@@ -88,8 +98,8 @@ mod score;
 mod spring;
 
 pub use answer::{
-    AddedTerm, Candidate, Diagnosis, EffectParameter, Evidence, RIVAL_MARGIN, Rival, SaturationKnee,
-    SpringForm, SpringTerm, StaticPeak, Verdict,
+    AddedTerm, Candidate, Departures, Diagnosis, EffectParameter, Evidence, Moved, RIVAL_MARGIN, Rival,
+    SaturationKnee, SpringForm, SpringTerm, StaticPeak, Verdict,
 };
 pub use report::DiagnosisReport;
 
@@ -126,7 +136,19 @@ pub struct DiagnoseOptions {
     pub min_strength_z: f64,
     /// How many candidates (best in-sample evidence first) are scored out of sample.
     pub shortlist: usize,
+    /// How well the model file's values, and a sensor's calibration, are taken to be known: the
+    /// standard deviation τ of the logarithm of each (a log-normal prior about the file's value,
+    /// about a gain of 1 for the calibration). Where one of the model's own parameters, refitted
+    /// alone, ties with a named sensor scale in sample, each account is charged
+    /// Σ ln²(p/p_file)/(2τ²) nats for the values it moves ([`Departures`]). The default,
+    /// [`DEFAULT_FILE_TOLERANCE`], is 5 %.
+    pub file_tolerance: f64,
 }
+
+/// The default [`DiagnoseOptions::file_tolerance`]: 5 %, what a laboratory rig's measured values
+/// are known to (a length by a tape, a mass by a scale, a stiffness from the modulus and the
+/// section) and what a strain gauge's or a tachometer's calibration is rarely known better than.
+pub const DEFAULT_FILE_TOLERANCE: f64 = 0.05;
 
 /// The share of the reference residual's predictable structure ([`evidence::structure`]) a
 /// named effect must remove: the physics that is missing explains the structure it leaves,
@@ -197,6 +219,7 @@ impl DiagnoseOptions {
             bic_threshold: 10.0,
             min_strength_z: 3.0,
             shortlist: 4,
+            file_tolerance: DEFAULT_FILE_TOLERANCE,
         }
     }
 }
@@ -236,6 +259,14 @@ pub fn diagnose_observed(
 ) -> Result<Diagnosis, WorkflowError> {
     if !model.input_names().is_empty() {
         return Err(WorkflowError::Driven { inputs: model.input_names().join(", ") });
+    }
+    let tolerance = options.file_tolerance;
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(WorkflowError::Setting {
+            field: "file_tolerance",
+            value: tolerance,
+            need: "a positive relative tolerance (0.05 for 5 %)",
+        });
     }
     let wrapped = model;
     // A spike or a dropout in one reading is neither physics nor the measurement model's noise.
@@ -331,12 +362,16 @@ pub fn diagnose_observed(
             let refitted: Vec<String> = reference_free.iter().chain(&trial.freed).cloned().collect();
             scale_equivalents = scale_equivalents_of(fitted, &data, output, &refitted);
         }
-        let search = named::Rivals {
+        let search = rivals::Rivals {
             reference: &reference.outcome.fitted,
             free: &reference_free,
             exclude: &scale_equivalents,
             also: crosstalk::screened(&reference.outcome, &noise, trial.output).into_iter().collect(),
             to_match: candidates[i].evidence.in_sample - options.threshold,
+            file: model,
+            mismatch: &mismatch,
+            effect: rivals::Account::of_scale(&candidates[i], model, &mismatch, tolerance),
+            tolerance,
         };
         rivals = search.find(&data, |o| evidence::gain(&likelihoods(o), &reference_likelihoods));
         if rivals.iter().any(|r| r.unseats(candidates[i].evidence.in_sample)) {

@@ -1,11 +1,12 @@
 //! The named effect: which candidate is named ([`choose`]), the refit that frees what only the
 //! named effect determines ([`polish`]), the model parameters a named sensor scale cannot be
-//! told from ([`scale_equivalents_of`]), and those that explain the data as well ([`Rivals`]).
+//! told from ([`scale_equivalents_of`]); those that explain the data as well are sought in
+//! [`super::rivals`].
 //! A named spring's form is tested beside it in [`super::spring`].
 
 use super::answer::last_error;
 use super::catalog::Trial;
-use super::{Candidate, Rival, Verdict, mismatch, run};
+use super::{Candidate, Verdict, run};
 use mem::Measurement;
 use models::FitOutcome;
 use models::{Model, ModelEffect};
@@ -58,67 +59,6 @@ pub(super) fn scale_equivalents_of(
         })
         .map(|(_, name)| name)
         .collect()
-}
-
-/// The search for [`Rival`]s of a named effect: each of the model's own parameters the
-/// reference did not refit ([`mismatch::rival_parameters`]) is refitted alone beside the reference's,
-/// from the reference, in its range, to the fitter's own convergence
-/// ([`run::Precision::Optimum`]); those whose gain reaches `to_match` (the effect's in-sample
-/// gain less the held-out threshold) and that the data determine inside their range explain the
-/// record as well as the effect. A sensor's calibration and the structure's geometry can act
-/// alike on one output (the slewing rig's beam length on its one strain gauge), and a wrong
-/// length or density moves the modes as an unmodeled mode coupled to them does: the answer then
-/// says which mismatch the data do not rule out and what it would be.
-pub(super) struct Rivals<'a> {
-    /// The reference's fitted model.
-    pub reference: &'a Model,
-    /// The reference's free parameters.
-    pub free: &'a [String],
-    /// Parameters not tried (the scale's exact equivalents, reported as such).
-    pub exclude: &'a [String],
-    /// Terms tried beside the model's own parameters (a sensor's crosstalk, module `crosstalk`).
-    pub also: Vec<mismatch::RivalTrial>,
-    /// The gain a rival must reach (nats).
-    pub to_match: f64,
-}
-
-impl Rivals<'_> {
-    pub(super) fn find(&self, data: &Measurement, gain: impl Fn(&FitOutcome) -> f64 + Sync) -> Vec<Rival> {
-        let tried: Vec<mismatch::RivalTrial> = mismatch::rival_parameters(self.reference, self.free)
-            .into_iter()
-            .chain(self.also.iter().cloned())
-            .filter(|t| !self.exclude.contains(&t.name))
-            .collect();
-        let mut found = tried
-            .par_iter()
-            .filter_map(|t| {
-                let name = &t.name;
-                let mut from = self.reference.clone();
-                if let Some((effect, _)) = &t.adds {
-                    from.add_effect(effect.clone()).ok()?;
-                }
-                let reference_value = from.value(name).ok()?;
-                from.set_bounds(name, t.bounds).ok()?;
-                let free: Vec<String> = self.free.iter().chain([name]).cloned().collect();
-                let outcome = run::refit_to(&from, data, &free, None, 60, run::Precision::Optimum).ok()?;
-                let in_sample = gain(&outcome);
-                let i = outcome.report.names.iter().position(|n| n == name)?;
-                (in_sample >= self.to_match && mismatch::determined(&outcome, name)).then(|| Rival {
-                    name: name.clone(),
-                    reference_value,
-                    value: outcome.report.parameters[i],
-                    std_error: outcome.report.std_error(i),
-                    in_sample,
-                    added: t.adds.is_some(),
-                    adds: t.adds.as_ref().map(|(_, term)| term.clone()),
-                    penalty: t.penalty,
-                })
-            })
-            .collect::<Vec<_>>();
-        // The best first; a stable sort keeps the order tried among equal gains.
-        found.sort_by(|a, b| b.in_sample.total_cmp(&a.in_sample));
-        found
-    }
 }
 
 /// A named effect whose trial held a shape parameter that only the named effect can determine

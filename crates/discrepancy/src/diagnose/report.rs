@@ -145,18 +145,32 @@ impl Diagnosis {
                     ));
                 }
                 for r in &self.rivals {
-                    out.push(format!(
+                    let fit = format!(
                         "a mismatch of {} explains these data as well: refitted alone in place of the effect it \
-                         moves from {:.5} to {:.5}{} and gains {:.1} nats (the effect {:.1}); one record of these \
-                         outputs does not tell them apart, so check `{}` before adding the effect",
+                         moves from {:.5} to {:.5}{} and gains {:.1} nats (the effect {:.1})",
                         r.described(),
                         r.reference_value,
                         r.value,
                         r.std_error.map_or(String::new(), |se| format!(" ± {se:.5}")),
                         r.in_sample,
                         c.evidence.in_sample,
-                        r.name
-                    ));
+                    );
+                    out.push(match r.departures.as_ref().filter(|d| d.charge() > 0.0) {
+                        Some(d) => format!(
+                            "{fit}, but it asks more of the model file ({}): with each value known to {:.0} %, \
+                             {:.1} nats more than the calibration error, which is the simpler account; if the \
+                             sensor's calibration is known, check `{}`",
+                            d.moved.iter().map(|m| m.described(true)).collect::<Vec<_>>().join(", "),
+                            100.0 * d.tolerance,
+                            d.charge(),
+                            r.name
+                        ),
+                        None => format!(
+                            "{fit}; one record of these outputs does not tell them apart, so check `{}` before adding \
+                             the effect",
+                            r.name
+                        ),
+                    });
                 }
                 out.extend(self.static_peak.as_ref().map(StaticPeak::sentence));
                 out.extend(self.saturation_knee.as_ref().map(SaturationKnee::sentence));
@@ -228,12 +242,28 @@ impl Diagnosis {
                                     .filter(|r| r.unseats(best.evidence.in_sample))
                                     .map(|r| {
                                         format!(
-                                            "{} {:.5} → {:.5}{} ({:.1} nats)",
+                                            "{} {:.5} → {:.5}{} ({:.1} nats{})",
                                             r.described(),
                                             r.reference_value,
                                             r.value,
                                             r.std_error.map_or(String::new(), |se| format!(" ± {se:.5}")),
-                                            r.in_sample
+                                            r.in_sample,
+                                            r.departures.as_ref().filter(|d| d.charge() < 0.0).map_or(
+                                                String::new(),
+                                                |d| format!(
+                                                    "; with each value of the model file known to {:.0} %, it asks \
+                                                     {:.1} nats less of it than the calibration error, whose refit \
+                                                     moves {}",
+                                                    100.0 * d.tolerance,
+                                                    -d.charge(),
+                                                    d.moved
+                                                        .iter()
+                                                        .filter(|m| m.name != r.name)
+                                                        .map(|m| m.described(false))
+                                                        .collect::<Vec<_>>()
+                                                        .join(", ")
+                                                )
+                                            )
                                         )
                                     })
                                     .collect();
