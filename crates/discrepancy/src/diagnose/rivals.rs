@@ -14,8 +14,9 @@ use rayon::prelude::*;
 /// reference did not refit ([`mismatch::rival_parameters`]) is refitted alone beside the reference's,
 /// from the reference, in its range, to the fitter's own convergence
 /// ([`run::Precision::Optimum`]); those whose gain reaches `to_match` (the effect's in-sample
-/// gain less the held-out threshold) and that the data determine inside their range explain the
-/// record as well as the effect. A sensor's calibration and the structure's geometry can act
+/// gain less the held-out threshold; set against a sensor scale, with what the scale's account
+/// asks of the model file beyond theirs added, [`Departures`]) and that the data determine inside
+/// their range explain the record as well as the effect. A sensor's calibration and the structure's geometry can act
 /// alike on one output (the slewing rig's beam length on its one strain gauge), and a wrong
 /// length or density moves the modes as an unmodeled mode coupled to them does: the answer then
 /// says which mismatch the data do not rule out and what it would be.
@@ -153,8 +154,10 @@ impl Rivals<'_> {
                     let charged: Vec<String> = self.mismatch.iter().chain([name]).cloned().collect();
                     departures(&outcome, effect, self.file, &charged, self.tolerance)
                 });
-                let charge = departures.as_ref().map_or(0.0, Departures::charge);
-                (in_sample - charge >= self.to_match && mismatch::determined(&outcome, name)).then(|| Rival {
+                // Listed where the likelihood alone reaches the bar (the user is told of the tie
+                // and of what the rival would ask of the file), or with what the effect asks.
+                let credit = departures.as_ref().map_or(0.0, |d| d.charge().min(0.0));
+                (in_sample - credit >= self.to_match && mismatch::determined(&outcome, name)).then(|| Rival {
                     name: name.clone(),
                     reference_value,
                     value: outcome.report.parameters[i],
