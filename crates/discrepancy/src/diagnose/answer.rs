@@ -380,6 +380,10 @@ pub struct Diagnosis {
     /// For a named `coulomb_friction` on the slewing rig: its static peak refitted beside it
     /// ([`StaticPeak`]); `None` otherwise, or when a refit failed.
     pub static_peak: Option<StaticPeak>,
+    /// For a `coulomb_friction` on the slewing rig that was named, or set aside as
+    /// [`Verdict::TimeVarying`]: a servo stiffness that falls with time, k₁′·t·θ at the hub,
+    /// refitted beside it (module `friction`); `None` otherwise, or when a refit failed.
+    pub fading: Option<SpringTerm>,
     /// The knee of a named saturation on the slewing rig ([`SaturationKnee`]); `None`
     /// otherwise, or when a refit failed.
     pub saturation_knee: Option<SaturationKnee>,

@@ -22,10 +22,10 @@
 //! parameters, the augmented model); otherwise the friction stays Coulomb's and the report says
 //! how far the peak got.
 
-use super::answer::StaticPeak;
+use super::answer::{SpringTerm, StaticPeak};
 use super::catalog::Trial;
 use super::named::{FormTest, parameter_of};
-use super::{Candidate, mismatch, run};
+use super::{Candidate, EffectParameter, mismatch, run};
 
 use plant::EffectKind;
 
@@ -86,4 +86,55 @@ pub(super) fn static_peak(candidate: &mut Candidate, trial: &Trial, test: &FormT
         candidate.outcome = Some(best);
     }
     Some(result)
+}
+
+/// The fade test of a named dry friction on the slewing rig, in the form it is named with (its
+/// static peak, where demanded): does a servo whose stiffness falls with time explain what the
+/// friction stands for? A motor whose torque constant fades as it
+/// warms (its magnets' flux falls, its winding's resistance rises) delivers less torque for the
+/// same error as the record goes on, and a constant friction, which also takes torque away,
+/// stands in for it. From the candidate's fit, with a linear hub stiffness that grows at a rate
+/// k₁′ (−k₁′·t·θ, the hub spring's `stiffness_rate`, within ± the servo's stiffness over the
+/// record) added at zero, the friction is refitted to the fitter's own convergence as it is and
+/// with k₁′ free beside it. The fade is demanded when k₁′ is a loss (negative), determined, and
+/// gains at least the held-out threshold or lies [`super::spring::WALD_Z`] standard errors from
+/// zero, as for the hub spring: the friction is then [`super::Verdict::TimeVarying`] and not
+/// named. `None` for another candidate or model, or when a refit fails.
+pub(super) fn fading(candidate: &Candidate, test: &FormTest) -> Option<SpringTerm> {
+    let FormTest { free, data, threshold, gain, .. } = *test;
+    if candidate.kind != EffectKind::CoulombFriction {
+        return None;
+    }
+    let (stiffness, _) = super::catalog::slewing::spring_scales(test.reference.as_slewing()?);
+    let last_time = data.start() + data.interval() * data.n_samples().saturating_sub(1) as f64;
+    if !(last_time > 0.0 && stiffness > 0.0) {
+        return None;
+    }
+    let rate = plant::ParamId::StiffnessRate.name();
+    let mut from = candidate.model.clone()?;
+    from.add_effect(
+        plant::Effect::CubicStiffness { coefficient: 0.0, linear: None, quintic: None, rate: Some(0.0) }
+            .into(),
+    )
+    .ok()?;
+    from.set_bounds(&rate, (-stiffness / last_time, stiffness / last_time)).ok()?;
+    let refit = |model: &models::Model, free: &[String]| {
+        run::refit_to(model, data, free, None, 60, run::Precision::Optimum).ok()
+    };
+    // The friction's own parameters as named (its level, and its peak where demanded).
+    let named: Vec<String> =
+        free.iter().cloned().chain(candidate.parameters.iter().map(|p| p.name.clone())).collect();
+    let as_named = refit(&from, &named)?;
+    let with_rate: Vec<String> = named.iter().chain([&rate]).cloned().collect();
+    let outcome = refit(&as_named.fitted, &with_rate)?;
+    let i = outcome.report.names.iter().position(|n| *n == rate)?;
+    let (value, std_error) = (outcome.report.parameters[i], outcome.report.std_error(i));
+    let added = gain(&outcome) - gain(&as_named);
+    let resolved = std_error.is_some_and(|se| value.abs() >= super::spring::WALD_Z * se);
+    Some(SpringTerm {
+        parameter: EffectParameter { name: rate.clone(), value, std_error },
+        gain: added,
+        symmetric_gain: 0.0,
+        demanded: value < 0.0 && (added >= threshold || resolved) && mismatch::determined(&outcome, &rate),
+    })
 }

@@ -56,6 +56,14 @@
 //!    takes up what a symmetric spring of another form leaves, so that only asymmetry, or
 //!    change with time, is left for the term.
 //!
+//! A named dry friction on the slewing rig is first set against a servo whose stiffness falls
+//! with time: refitted with −k₁′·t·θ at the hub beside it (the hub spring's rate, module
+//! `friction`), where k₁′ is a loss, determined, and gains the threshold or lies 5 standard
+//! errors from zero, the friction stands in for a motor whose torque constant fades as it warms
+//! (outside the catalog), which also takes torque away as the record goes on: its verdict is
+//! [`Verdict::TimeVarying`] and nothing is named. (True dry frictions that settle act on the
+//! rate the other way, as a stiffness that grows as the motion dies.)
+//!
 //! A named dry friction on the slewing rig is then refitted with a static peak beside it,
 //! τ = −(F_c + ΔF e^{−(θ̇/v_st)²}) tanh(θ̇/v_s) (Stribeck; Armstrong-Hélouvry, Dupont & Canudas de
 //! Wit, Automatica 30(7), 1994): where ΔF and v_st are determined and the peak gains at least
@@ -350,6 +358,7 @@ pub fn diagnose_observed(
     let mut rivals = Vec::new();
     let mut spring = None;
     let mut static_peak = None;
+    let mut fading = None;
     let mut saturation_knee = None;
     let chosen = (|| {
         let i = choose(&candidates, options.threshold)?;
@@ -404,6 +413,13 @@ pub fn diagnose_observed(
         }
         // A named dry friction: does it stick (a static peak above its sliding level)?
         static_peak = friction::static_peak(&mut candidates[i], trial, &test);
+        // And, in that form, does a servo that loses stiffness with time explain it (a torque
+        // constant that fades, outside the catalog)?
+        fading = friction::fading(&candidates[i], &test);
+        if fading.as_ref().is_some_and(|t| t.demanded) {
+            candidates[i].verdict = Verdict::TimeVarying;
+            return None;
+        }
         // A named saturation: is its limit softer than the catalog's limiter?
         saturation_knee = saturation::knee(&mut candidates[i], trial, &test);
         Some(i)
@@ -439,6 +455,7 @@ pub fn diagnose_observed(
         rivals,
         spring,
         static_peak,
+        fading,
         saturation_knee,
         glitches,
     })

@@ -53,6 +53,11 @@ pub struct DiagnosisReport<'a> {
     /// beside it, and whether the data demand it — demanded, the named friction carries it;
     /// absent otherwise.
     pub static_friction_peak: Option<&'a super::StaticPeak>,
+    /// For a `coulomb_friction` on the slewing rig, named or set aside as `time_varying`: a
+    /// servo stiffness that falls with time, k₁′·t·θ at the hub, refitted beside it, and whether
+    /// the data demand it (then the friction stands in for a fading torque constant and nothing
+    /// is named); absent otherwise.
+    pub fading_servo: Option<&'a super::SpringTerm>,
     /// The knee of a named saturation ([`SaturationKnee`]), when one was tested.
     pub saturation_knee: Option<&'a SaturationKnee>,
     /// Readings set aside as glitches before anything was fitted, each replaced by the line
@@ -281,6 +286,22 @@ impl Diagnosis {
                                     if one { "it" } else { "them" }
                                 )
                             }
+                            Verdict::TimeVarying if best.kind == plant::EffectKind::CoulombFriction => {
+                                match &self.fading {
+                                    Some(term) => format!(
+                                        "predictive on held-out blocks ({:.1} nats in sample), but beside it the \
+                                         servo's stiffness falls with time: `{}` = {:.4e}{} adds {:.1} nats — a motor \
+                                         whose torque constant fades as it warms, outside the catalog, for which a \
+                                         constant friction only stands in",
+                                        best.evidence.in_sample,
+                                        term.parameter.name,
+                                        term.parameter.value,
+                                        term.parameter.std_error.map_or(String::new(), |se| format!(" ± {se:.2e}")),
+                                        term.gain
+                                    ),
+                                    None => format!("{:?}", best.verdict),
+                                }
+                            }
                             Verdict::Asymmetric | Verdict::TimeVarying => match &self.spring {
                                 Some(form) => {
                                     let asymmetric =
@@ -348,6 +369,7 @@ impl Diagnosis {
             asymmetric_spring: self.spring.as_ref().and_then(|f| f.asymmetric.as_ref()),
             changing_spring: self.spring.as_ref().map(|f| &f.changing),
             static_friction_peak: self.static_peak.as_ref(),
+            fading_servo: self.fading.as_ref(),
             saturation_knee: self.saturation_knee.as_ref(),
             glitches: &self.glitches,
         }

@@ -59,7 +59,7 @@ const FORM_RANGE: f64 = 10.0;
 /// study's development, held-out and fresh sets neither term reached z 2.3; on the slewing
 /// rig's 66 true hub springs and 16 soft voltage limits answered a spring, on ten held-out
 /// draws, k₁′ reached z 3.3 and 4.3 nats at most, where fading torque constants gave z 5–16.
-const WALD_Z: f64 = 5.0;
+pub(super) const WALD_Z: f64 = 5.0;
 
 /// The spring-form test of a named `cubic_stiffness` ([`SpringForm`]): a structure's, for
 /// asymmetry and change with time; the slewing rig's hub spring, for change with time. `None`
