@@ -106,10 +106,7 @@ pub(super) fn fading(candidate: &Candidate, test: &FormTest) -> Option<SpringTer
         return None;
     }
     let (stiffness, _) = super::catalog::slewing::spring_scales(test.reference.as_slewing()?);
-    let last_time = data.start() + data.interval() * data.n_samples().saturating_sub(1) as f64;
-    if !(last_time > 0.0 && stiffness > 0.0) {
-        return None;
-    }
+    let last_time = super::spring::record_end(data).filter(|_| stiffness > 0.0)?;
     let rate = plant::ParamId::StiffnessRate.name();
     let mut from = candidate.model.clone()?;
     from.add_effect(
@@ -117,7 +114,7 @@ pub(super) fn fading(candidate: &Candidate, test: &FormTest) -> Option<SpringTer
             .into(),
     )
     .ok()?;
-    from.set_bounds(&rate, (-stiffness / last_time, stiffness / last_time)).ok()?;
+    from.set_bounds(&rate, super::spring::symmetric(stiffness / last_time)).ok()?;
     let refit = |model: &models::Model, free: &[String]| {
         run::refit_to(model, data, free, None, 60, run::Precision::Optimum).ok()
     };

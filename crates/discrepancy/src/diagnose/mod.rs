@@ -148,7 +148,8 @@ pub struct DiagnoseOptions {
     /// standard deviation τ of the logarithm of each (a log-normal prior about the file's value,
     /// about a gain of 1 for the calibration). Where one of the model's own parameters, refitted
     /// alone, ties with a named sensor scale in sample, each account is charged
-    /// Σ ln²(p/p_file)/(2τ²) nats for the values it moves ([`Departures`]). The default,
+    /// Σ ln²(p̂/p_file)/(2(τ² + σ²)) nats for the values it moves, σ the relative standard error
+    /// of p̂ in its refit ([`Departures`]). The default,
     /// [`DEFAULT_FILE_TOLERANCE`], is 5 %.
     pub file_tolerance: f64,
 }

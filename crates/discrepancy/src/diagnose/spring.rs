@@ -66,11 +66,7 @@ pub(super) const WALD_Z: f64 = 5.0;
 /// for any other candidate, or when a refit fails.
 pub(super) fn form(candidate: &Candidate, trial: &Trial, test: &FormTest) -> Option<SpringForm> {
     let fitted = candidate.model.as_ref()?;
-    let data = test.data;
-    let last_time = data.start() + data.interval() * data.n_samples().saturating_sub(1) as f64;
-    if last_time.is_nan() || last_time <= 0.0 {
-        return None;
-    }
+    let last_time = record_end(test.data)?;
     let limit = |k: f64, q: f64, power: i32| FORM_RANGE * k / q.powi(power);
     match &trial.effect {
         models::ModelEffect::Structure(structure::Effect::CubicStiffness {
@@ -128,8 +124,15 @@ pub(super) fn form(candidate: &Candidate, trial: &Trial, test: &FormTest) -> Opt
     }
 }
 
+/// The time of the record's last sample, from the release (T of the rate terms' ranges); `None`
+/// where it is not a positive number.
+pub(super) fn record_end(data: &mem::Measurement) -> Option<f64> {
+    let end = data.start() + data.interval() * data.n_samples().saturating_sub(1) as f64;
+    (end > 0.0 && end.is_finite()).then_some(end)
+}
+
 /// (−r, r).
-fn symmetric(range: f64) -> (f64, f64) {
+pub(super) fn symmetric(range: f64) -> (f64, f64) {
     (-range, range)
 }
 
