@@ -88,7 +88,9 @@ pub enum WorkflowError {
 }
 
 /// The effect kinds `diagnose` tries (what `--only` accepts): the whole catalog but a sensor's
-/// crosstalk, which is set against a named effect, not named itself.
+/// crosstalk and a sensor read late, which are set against a named effect, not named
+/// themselves.
 pub fn catalog_kinds() -> Vec<plant::EffectKind> {
-    plant::EffectKind::ALL.into_iter().filter(|&k| k != plant::EffectKind::SensorCrosstalk).collect()
+    use plant::EffectKind::{SensorCrosstalk, SensorLag};
+    plant::EffectKind::ALL.into_iter().filter(|k| !matches!(k, SensorCrosstalk | SensorLag)).collect()
 }

@@ -178,3 +178,35 @@ fn a_crosstalk_needs_another_sensor_that_is_read() {
         assert!(err.contains("effects.from") && err.contains("another sensor"), "{err}");
     }
 }
+
+/// A sensor read late by τ_s (`SensorLag`, Padé(1,1) in the state space) reads what the
+/// unlagged model's sensor read τ_s earlier: checked on a grid of step τ_s/2, where the
+/// unlagged response two samples back is the delayed reading itself (no interpolation). The
+/// Padé's error is of order (ωτ_s)³/12 in phase on the fastest mode the sensor sees.
+#[test]
+fn a_sensor_read_late_reads_the_signal_of_a_moment_before() {
+    let lag = 0.002;
+    let with = |effects: &str| {
+        let text = plant::PAPER_MODEL_RON
+            .replace("    bounds: {", &format!("    effects: [{effects}],\n    bounds: {{"));
+        Model::Slewing(SlewingModel::from_ron(&text, "lag.ron").unwrap())
+    };
+    let lagged =
+        with("SensorLag(sensor: Potentiometer, lag: 0.002), SensorLag(sensor: StrainGauge, lag: 0.002)");
+    let plain = Model::Slewing(SlewingModel::paper());
+    let n = 3000;
+    let grid = Grid::free(lag / 2.0);
+    let (a, b) = (lagged.simulate(&grid, n).unwrap(), plain.simulate(&grid, n).unwrap());
+    for (o, tolerance) in [(0, 1e-4), (1, 1e-12), (2, 2e-3)] {
+        let peak = (0..n).map(|k| b[(k, o)].abs()).fold(0.0, f64::max);
+        let worst = (2..n).map(|k| (a[(k, o)] - b[(k - 2, o)]).abs()).fold(0.0, f64::max);
+        // Against the unlagged reading at the same time, the lag is plainly there.
+        let moved = (2..n).map(|k| (a[(k, o)] - b[(k, o)]).abs()).fold(0.0, f64::max);
+        if o == 1 {
+            assert!(moved < 1e-9 * peak, "the tachometer is not lagged: {moved}");
+        } else {
+            assert!(worst < tolerance * peak, "output {o}: {worst} of {peak}");
+            assert!(moved > 10.0 * worst, "output {o}: the lag moves it by {moved}, {worst} left");
+        }
+    }
+}

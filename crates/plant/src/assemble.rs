@@ -1,6 +1,6 @@
 //! The closed-loop equations of motion (paper Eqs. 17–21) and their first-order form.
 
-use crate::{Constants, Effect, EffectKind, PlantError};
+use crate::{Constants, Effect, EffectKind, PlantError, Sensor};
 use beam_modes::{Beam, Mode};
 use nalgebra::{DMatrix, DVector, RealField};
 use num_dual::DualNum;
@@ -41,6 +41,9 @@ pub struct Layout {
     pub motor: Option<usize>,
     /// State index of the Padé delay state w.
     pub delay: Option<usize>,
+    /// State index of each sensor's lag state (by [`Sensor::index`]), where its channel reads
+    /// late ([`Effect::SensorLag`]).
+    pub lags: [Option<usize>; Sensor::COUNT],
     /// Total number of states.
     pub n_states: usize,
 }
@@ -61,7 +64,14 @@ impl Layout {
             n_states += 1;
             n_states - 1
         });
-        Self { n_modes, n_dof, extra_mode, motor, delay, n_states }
+        let mut lags = [None; Sensor::COUNT];
+        for e in &c.effects {
+            if let Effect::SensorLag { sensor, .. } = e {
+                lags[sensor.index()] = Some(n_states);
+                n_states += 1;
+            }
+        }
+        Self { n_modes, n_dof, extra_mode, motor, delay, lags, n_states }
     }
 }
 
@@ -226,7 +236,9 @@ pub struct FirstOrder<D: Scalar> {
 
 /// A = [[0, I], [−M⁻¹K, −M⁻¹D]] by one LU factorisation of M and solves (no inverse), augmented
 /// with the effects' states:
-/// * time delay τ (Padé(1,1)): the servo acts on θ_d = −θ + w instead of θ, ẇ = (2/τ)(2θ − w).
+/// * time delay τ (Padé(1,1)): the servo acts on θ_d = −θ + w instead of θ, ẇ = (2/τ)(2θ − w);
+/// * a sensor read late by τ_s (Padé(1,1)): ẇ_s = (2/τ_s)(2y − w_s), y = c·x its undelayed
+///   reading ([`crate::sensors::reading`]); the output matrix reads −y + w_s.
 ///
 /// # Errors
 /// [`PlantError::SingularMass`] if M cannot be factorised.
@@ -268,6 +280,16 @@ pub fn first_order<D: Scalar>(c: &Constants<D>, so: &SecondOrder<D>) -> Result<F
         }
         a[(w, 0)] = D::from(4.0) / tau;
         a[(w, w)] = D::from(-2.0) / tau;
+    }
+    for e in &c.effects {
+        if let Effect::SensorLag { sensor, lag } = e {
+            let w = layout.lags[sensor.index()].expect("the layout has a lag state for each SensorLag");
+            let y = crate::sensors::reading(c, so, &layout, *sensor);
+            for j in 0..n {
+                a[(w, j)] = D::from(4.0) * y[j] / *lag;
+            }
+            a[(w, w)] = D::from(-2.0) / *lag;
+        }
     }
     Ok(FirstOrder { a, servo_input, hub_input, layout })
 }

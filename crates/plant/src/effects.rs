@@ -19,6 +19,7 @@
 //! | `OutputOffset` | `offset_<output>` | y ← y + b on one sensor |
 //! | `SensorScale` | `scale_<output>` | y ← (1 + s)·y on one sensor (a calibration error) |
 //! | `SensorCrosstalk` | `crosstalk_<output>_<from>` | y ← y + g·y_from on one sensor: another sensor's signal picked up by its channel (a wiring or amplifier fault; a measurement fact the diagnosis sets against a named effect, not a catalog candidate) |
+//! | `SensorLag` | `lag_<output>` \[s\] | y ← y(t − τ_s) on one sensor, Padé(1,1): y_read = −y + w, ẇ = (2/τ_s)(2y − w) — its channel read late (a multiplexed converter's sampling skew, an anti-alias filter's group delay; a measurement fact the diagnosis sets against a named effect, not a catalog candidate) |
 //! | `SensorDrift` | `drift_<output>` \[unit/s\], optional `drift_time_<output>` τ \[s\] | y ← y + d·t on one sensor (a slow drift); with τ, y ← y + d·τ(1 − e^{−t/τ}): a drift at rate d that levels off at d·τ (a sensor warming up) |
 
 use crate::sensors::Sensor;
@@ -56,11 +57,14 @@ pub enum EffectKind {
     /// Another sensor's signal picked up by one sensor's channel. Not a candidate of the
     /// diagnosis: it is set against a named effect (a wiring fault is not physics).
     SensorCrosstalk,
+    /// One sensor's channel read late (a sampling skew, a filter's delay). Not a candidate of
+    /// the diagnosis: it is set against a named effect (an acquisition's timing is not physics).
+    SensorLag,
 }
 
 impl EffectKind {
     /// Every kind, in catalog order.
-    pub const ALL: [EffectKind; 13] = [
+    pub const ALL: [EffectKind; 14] = [
         EffectKind::AmplifierSaturation,
         EffectKind::VoltageSaturation,
         EffectKind::CoulombFriction,
@@ -74,6 +78,7 @@ impl EffectKind {
         EffectKind::TimeDelay,
         EffectKind::UnmodeledMode,
         EffectKind::SensorCrosstalk,
+        EffectKind::SensorLag,
     ];
 
     /// The catalog name (snake case), as `memid diagnose` reports it.
@@ -92,6 +97,7 @@ impl EffectKind {
             EffectKind::TimeDelay => "time_delay",
             EffectKind::UnmodeledMode => "unmodeled_mode",
             EffectKind::SensorCrosstalk => "sensor_crosstalk",
+            EffectKind::SensorLag => "sensor_lag",
         }
     }
 
@@ -100,7 +106,9 @@ impl EffectKind {
         Self::ALL.into_iter().find(|k| k.name() == name)
     }
 
-    /// Whether the effect acts on one sensor's readings only.
+    /// Whether the effect acts on one sensor's readings only, applied to the readings (a
+    /// [`EffectKind::SensorLag`] acts on one sensor's readings too, but through a state of the
+    /// dynamics: it is not one of these).
     pub fn is_sensor_effect(self) -> bool {
         matches!(
             self,
@@ -259,6 +267,16 @@ pub enum Effect<D = f64> {
         /// sensor's own effects), in the ratio of the two outputs' units.
         gain: D,
     },
+    /// One sensor's channel read late: the reading is y(t − τ_s), by Padé(1,1) (a state w,
+    /// ẇ = (2/τ_s)(2y − w), read as −y + w), which keeps the exponential path. A multiplexed
+    /// converter that samples its channels in turn, or an anti-alias filter of one channel
+    /// (group delay ≈ its phase slope), reads one sensor late against the others.
+    SensorLag {
+        /// Which sensor.
+        sensor: Sensor,
+        /// τ_s \[s\] (`lag_<output>`), > 0.
+        lag: D,
+    },
     /// A delay in the position feedback.
     TimeDelay {
         /// Delay τ \[s\].
@@ -310,6 +328,7 @@ impl<D> Effect<D> {
             Effect::TimeDelay { .. } => EffectKind::TimeDelay,
             Effect::UnmodeledMode { .. } => EffectKind::UnmodeledMode,
             Effect::SensorCrosstalk { .. } => EffectKind::SensorCrosstalk,
+            Effect::SensorLag { .. } => EffectKind::SensorLag,
         }
     }
 
@@ -320,7 +339,8 @@ impl<D> Effect<D> {
             | Effect::OutputOffset { sensor, .. }
             | Effect::SensorScale { sensor, .. }
             | Effect::SensorDrift { sensor, .. }
-            | Effect::SensorCrosstalk { sensor, .. } => Some(*sensor),
+            | Effect::SensorCrosstalk { sensor, .. }
+            | Effect::SensorLag { sensor, .. } => Some(*sensor),
             _ => None,
         }
     }
@@ -392,6 +412,7 @@ impl<D> Effect<D> {
             Effect::SensorCrosstalk { sensor, from, gain } => {
                 Effect::SensorCrosstalk { sensor: *sensor, from: *from, gain: f(gain) }
             }
+            Effect::SensorLag { sensor, lag } => Effect::SensorLag { sensor: *sensor, lag: f(lag) },
             Effect::UnmodeledMode {
                 frequency_hz,
                 damping_ratio,

@@ -342,6 +342,19 @@ impl SlewingModel {
             x[r] = theta;
             x[layout.n_dof + r] = self.file.initial_condition.hub_rate;
         }
+        // A lagged sensor's state held at its reading (w = 2y(0), so −y + w = y(0)): the
+        // potentiometer reads θ(0), the tachometer the rate, the strain gauge nothing (the beam
+        // starts undeformed, its modal coordinates at zero).
+        for sensor in [Sensor::Potentiometer, Sensor::Tachometer, Sensor::StrainGauge] {
+            if let Some(w) = layout.lags[sensor.index()] {
+                x[w] = 2.0
+                    * match sensor {
+                        Sensor::Potentiometer => theta,
+                        Sensor::Tachometer => self.file.initial_condition.hub_rate,
+                        Sensor::StrainGauge => 0.0,
+                    };
+            }
+        }
         x
     }
 

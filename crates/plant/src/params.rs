@@ -90,6 +90,8 @@ pub enum ParamId {
     /// `crosstalk_<output>_<from>` of `SensorCrosstalk`: the gain of `from`'s signal in
     /// `output`'s reading.
     Crosstalk(Sensor, Sensor),
+    /// `lag_<output>` of `SensorLag`: how late the output's channel reads it.
+    Lag(Sensor),
     /// `voltage_limit` of `VoltageSaturation`.
     VoltageLimit,
     /// `drag_exponent` of `QuadraticDrag` (when given).
@@ -187,6 +189,7 @@ impl ParamId {
             ParamId::Drift(s) => format!("drift_{}", s.output_name()),
             ParamId::DriftTime(s) => format!("drift_time_{}", s.output_name()),
             ParamId::Crosstalk(s, from) => format!("crosstalk_{}_{}", s.output_name(), from.output_name()),
+            ParamId::Lag(s) => format!("lag_{}", s.output_name()),
             other => CORE
                 .iter()
                 .chain(EFFECT_PARAMS.iter())
@@ -206,6 +209,7 @@ impl ParamId {
             ParamId::Drift(_) => "effects.rate".into(),
             ParamId::DriftTime(_) => "effects.time_constant".into(),
             ParamId::Crosstalk(..) => "effects.gain".into(),
+            ParamId::Lag(_) => "effects.lag".into(),
             other => CORE
                 .iter()
                 .map(|(_, id, path)| (*id, (*path).to_string()))
@@ -236,6 +240,7 @@ impl ParamId {
             | ParamId::StribeckVelocity
             | ParamId::CurrentKnee
             | ParamId::VoltageKnee
+            | ParamId::Lag(_)
             | ParamId::DriftTime(_) => SignRule::Positive,
             ParamId::Offset(_)
             | ParamId::Scale(_)
@@ -340,6 +345,7 @@ impl ParamId {
             }
             Effect::TimeDelay { .. } => vec![ParamId::Delay],
             Effect::SensorCrosstalk { sensor, from, .. } => vec![ParamId::Crosstalk(*sensor, *from)],
+            Effect::SensorLag { sensor, .. } => vec![ParamId::Lag(*sensor)],
             Effect::UnmodeledMode { stiffness_coupling, damping_coupling, .. } => {
                 let mut ids =
                     vec![ParamId::ExtraModeFrequency, ParamId::ExtraModeDamping, ParamId::ExtraModeCoupling];
@@ -419,6 +425,7 @@ macro_rules! effect_field {
             {
                 Some(gain)
             }
+            (Effect::SensorLag { sensor, lag }, ParamId::Lag(s)) if *sensor == s => Some(lag),
             (Effect::SensorDrift { sensor, time_constant: Some(tau), .. }, ParamId::DriftTime(s))
                 if *sensor == s =>
             {

@@ -279,9 +279,11 @@ fn a_saturation_knee_is_a_parameter_when_given() {
 #[test]
 fn effect_parameters_have_exact_derivatives() {
     let m = with_effects(
-        "UnmodeledMode(frequency_hz: 4.2, damping_ratio: 0.03, coupling: 0.05, stiffness_coupling: Some(0.4)), TimeDelay(delay: 0.02)",
+        "UnmodeledMode(frequency_hz: 4.2, damping_ratio: 0.03, coupling: 0.05, stiffness_coupling: Some(0.4)), TimeDelay(delay: 0.02), SensorLag(sensor: StrainGauge, lag: 0.004)",
     );
     let ids: Vec<ParamId> = [
+        "lag_strain",
+        "ei_over_rho",
         "extra_mode_frequency",
         "extra_mode_damping",
         "extra_mode_coupling",
@@ -324,6 +326,44 @@ fn effect_parameters_have_exact_derivatives() {
             }
         }
     }
+}
+
+#[test]
+fn a_sensor_read_late_holds_its_reading_at_rest_and_leaves_the_dynamics_alone() {
+    let m = with_effects(
+        "SensorLag(sensor: Potentiometer, lag: 0.003), SensorLag(sensor: StrainGauge, lag: 0.001)",
+    );
+    let paper = SlewingModel::paper();
+    assert_eq!(m.n_states(), paper.n_states() + 2);
+    // The lag states are outside the loop: the rig's eigenvalues are the paper's, with the two
+    // Padé poles −2/τ_s beside them.
+    let mut with_lag = eigenvalues(&m);
+    let base = eigenvalues(&paper);
+    for pole in [-2.0 / 0.003, -2.0 / 0.001] {
+        let i = with_lag.iter().position(|(re, im)| (re / pole - 1.0).abs() < 1e-9 && *im == 0.0);
+        with_lag.remove(i.unwrap_or_else(|| panic!("a pole at {pole}")));
+    }
+    assert_eq!(with_lag.len(), base.len());
+    let by_place = |a: &(f64, f64), b: &(f64, f64)| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1));
+    let mut base = base;
+    with_lag.sort_by(by_place);
+    base.sort_by(by_place);
+    // (To the eigensolver's accuracy on the stiffer matrix: 10⁻⁸ of the eigenvalue's size.)
+    for ((re, im), (bre, bim)) in with_lag.iter().zip(&base) {
+        let size = bre.hypot(*bim);
+        assert!((re - bre).hypot(im - bim) < 1e-8 * size, "({re}, {im}) against ({bre}, {bim})");
+    }
+    // Held at the release: each lagged reading −y + w is the reading itself.
+    let ss = m.state_space().unwrap();
+    let x0 = m.initial_state();
+    let reading = |row: usize| (0..x0.len()).map(|j| ss.c[(row, j)] * x0[j]).sum::<f64>();
+    assert!((reading(0) - x0[0]).abs() < 1e-15, "θ read {} against {}", reading(0), x0[0]);
+    assert_eq!(reading(2), 0.0);
+    assert!(m.parameter("lag_theta").is_ok() && m.parameter("lag_theta_dot").is_err());
+    let bad = plant::PAPER_MODEL_RON
+        .replace("    bounds: {", "    effects: [SensorLag(sensor: Tachometer, lag: 0.0)],\n    bounds: {");
+    let msg = SlewingModel::from_ron(&bad, "bad.ron").unwrap_err().to_string();
+    assert!(msg.contains("lag") && msg.contains("> 0"), "{msg}");
 }
 
 #[test]

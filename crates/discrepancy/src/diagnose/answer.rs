@@ -42,6 +42,12 @@ pub enum AddedTerm {
         /// The output picked up.
         from: String,
     },
+    /// One output's channel read late (`lag_<output>`): it reads y(t − τ_s), a sampling skew
+    /// or a filter's delay in the acquisition.
+    Lag {
+        /// The output read late.
+        output: String,
+    },
 }
 
 /// The in-sample evidence (nats) an effect needs over a rival of no more parameters to keep its
@@ -60,7 +66,8 @@ pub const RIVAL_MARGIN: f64 = 1.0;
 pub struct Rival {
     /// Parameter name (`length`, …).
     pub name: String,
-    /// Its value in the reference (the model file's, it was not refitted there).
+    /// Its value in the reference (the model file's, it was not refitted there; zero for an
+    /// added term, absent there).
     pub reference_value: f64,
     /// Its value refitted in place of the effect.
     pub value: f64,
@@ -75,7 +82,7 @@ pub struct Rival {
     pub adds: Option<AddedTerm>,
     /// The nats its gain is charged before it is set against the effect: ln K for a term
     /// chosen as the best of K alternatives of one class (a crosstalk, of the p(p − 1) ordered
-    /// pairs of p outputs), which as a class weighs as one alternative; 0 for the model's own
+    /// pairs of p outputs; a lag, of the p outputs), which as a class weighs as one alternative; 0 for the model's own
     /// parameters and the other added terms, each an alternative of its own.
     pub penalty: f64,
     /// For a rival of a named sensor scale: how far each account moves the model file's values
@@ -149,6 +156,10 @@ impl Rival {
             }
             Some(AddedTerm::Crosstalk { output, from }) => format!(
                 "`{}` (`{from}`'s signal picked up by the `{output}` channel, y + g·{from}: a wiring fault, not physics)",
+                self.name
+            ),
+            Some(AddedTerm::Lag { output }) => format!(
+                "`{}` (the `{output}` channel read late, y(t − τ_s): a sampling skew or a filter's delay in the acquisition, not physics)",
                 self.name
             ),
             None => format!("`{}`", self.name),

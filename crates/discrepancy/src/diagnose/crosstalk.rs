@@ -27,8 +27,14 @@ use faer::Mat;
 use models::{FitOutcome, Model, ModelEffect};
 
 /// The whitened least squares of `residual`'s column i on `regressor`'s column j under AR(1)
-/// coefficient ρ: the gain −(n/2) ln(U_g/U_0) (nats) of the best g.
-fn regression_gain(residual: &Mat<f64>, regressor: &Mat<f64>, i: usize, j: usize, rho: f64) -> f64 {
+/// coefficient ρ: the gain −(n/2) ln(U_g/U_0) (nats) of the best g, and that g.
+pub(super) fn regression(
+    residual: &Mat<f64>,
+    regressor: &Mat<f64>,
+    i: usize,
+    j: usize,
+    rho: f64,
+) -> (f64, f64) {
     let whiten = |m: &Mat<f64>, c: usize, k: usize| {
         if k == 0 { (1.0 - rho * rho).sqrt() * m[(0, c)] } else { m[(k, c)] - rho * m[(k - 1, c)] }
     };
@@ -38,10 +44,10 @@ fn regression_gain(residual: &Mat<f64>, regressor: &Mat<f64>, i: usize, j: usize
         (rr, rs, ss) = (rr + r * r, rs + r * s, ss + s * s);
     }
     if !(rr > 0.0 && ss > 0.0) {
-        return 0.0;
+        return (0.0, 0.0);
     }
     let left = (rr - rs * rs / ss).max(f64::MIN_POSITIVE);
-    -0.5 * residual.nrows() as f64 * (left / rr).ln()
+    (-0.5 * residual.nrows() as f64 * (left / rr).ln(), rs / ss)
 }
 
 /// The crosstalk to refit as a rival: the ordered pair (i picks up j) of the reference's
@@ -68,7 +74,7 @@ pub(super) fn screened(
         .filter(|&i| Some(i) != named_output)
         .flat_map(|i| (0..p).filter(move |&j| j != i).map(move |j| (i, j)))
         .filter(|&(i, j)| peak[i] > 0.0 && peak[j] > 0.0)
-        .map(|(i, j)| (i, j, regression_gain(&residual, fitted, i, j, noise.rho[i])))
+        .map(|(i, j)| (i, j, regression(&residual, fitted, i, j, noise.rho[i]).0))
         .filter(|&(_, _, gain)| gain > 0.0)
         .max_by(|a, b| a.2.total_cmp(&b.2))?;
     let bound = peak[i] / peak[j];
@@ -100,7 +106,7 @@ pub(super) fn screened(
 
 #[cfg(test)]
 mod tests {
-    use super::regression_gain;
+    use super::regression;
     use faer::Mat;
 
     /// The whitened regression recovers a residual that is g times the regressor plus white
@@ -112,7 +118,7 @@ mod tests {
         // A deterministic, zero-mean, uncorrelated-looking sequence for the noise.
         let noise = |k: usize| ((k * 7919 % 997) as f64 / 997.0 - 0.5) * 0.1;
         let residual = Mat::from_fn(n, 1, |k, _| 0.3 * regressor[(k, 0)] + noise(k));
-        let gain = regression_gain(&residual, &regressor, 0, 0, 0.0);
+        let (gain, fitted_g) = regression(&residual, &regressor, 0, 0, 0.0);
         // Direct: the least-squares g and the sums of squares before and after.
         let (mut rs, mut ss, mut rr) = (0.0, 0.0, 0.0);
         for k in 0..n {
@@ -122,12 +128,13 @@ mod tests {
         }
         let g = rs / ss;
         assert!((g - 0.3).abs() < 0.02, "g = {g}");
+        assert!((fitted_g - g).abs() < 1e-12, "{fitted_g} against {g}");
         let left: f64 = (0..n).map(|k| (residual[(k, 0)] - g * regressor[(k, 0)]).powi(2)).sum();
         let want = -0.5 * n as f64 * (left / rr).ln();
         assert!((gain - want).abs() < 1e-9 * want.abs(), "{gain} against {want}");
         // Nothing to explain in a regressor the residual does not hold.
         let flat = Mat::from_fn(n, 1, |k, _| noise(k));
         let orthogonal = Mat::from_fn(n, 1, |k, _| if k % 2 == 0 { 1.0 } else { -1.0 });
-        assert!(regression_gain(&flat, &orthogonal, 0, 0, 0.0) < 5.0);
+        assert!(regression(&flat, &orthogonal, 0, 0, 0.0).0 < 5.0);
     }
 }

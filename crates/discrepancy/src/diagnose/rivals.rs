@@ -144,7 +144,9 @@ impl Rivals<'_> {
                 if let Some((effect, _)) = &t.adds {
                     from.add_effect(effect.clone()).ok()?;
                 }
-                let reference_value = from.value(name).ok()?;
+                // An added term is absent from the reference: its value there is zero (a lag's
+                // limit), whatever value the refit starts from.
+                let reference_value = if t.adds.is_some() { 0.0 } else { from.value(name).ok()? };
                 from.set_bounds(name, t.bounds).ok()?;
                 let free: Vec<String> = self.free.iter().chain([name]).cloned().collect();
                 let outcome = run::refit_to(&from, data, &free, None, 60, run::Precision::Optimum).ok()?;

@@ -5,10 +5,11 @@
 use super::answer::last_error;
 use super::catalog::Trial;
 use super::evidence::{self, NoiseModel};
+use super::options::MIN_STRUCTURE;
 use super::run::{self, Fitted, Folds};
 use super::{
-    Candidate, DiagnoseOptions, Evidence, MIN_SENSOR_STRUCTURE_EXPLAINED, MIN_STRUCTURE, Observe, Verdict,
-    failed, min_structure_explained, schedule,
+    Candidate, DiagnoseOptions, Evidence, MIN_SENSOR_STRUCTURE_EXPLAINED, Observe, Verdict, failed,
+    min_structure_explained, schedule,
 };
 use crate::WorkflowError;
 use mem::Measurement;
