@@ -385,36 +385,57 @@ const LIGHTLY_DAMPED: f64 = 0.2;
 /// reproduces, while near the servo a heavily coupled "mode" would only reshape the servo's own
 /// response. A structure's extra mode adds to the outputs without coupling, so near any of the
 /// modelled modes it would only stand in for a change of that mode: it avoids them all (15 %).
-fn mode_seeds(avoid: &[f64], margin: f64, max_damping: f64, localisation: &Localisation) -> Vec<Seed> {
+///
+/// Where neither record shows a mode to seed from, the modes in `fallback` (frequency, damping
+/// ratio) are taken under the same rules: for the slewing rig its first flexible mode, which
+/// every free decay of the rig holds and a mode coupled to it shifts. ERA misses it where the
+/// servo's two overdamped poles carry all but a few percent of the record (a heavily damped mode
+/// coupled through damping takes the flexible mode's motion away), and then no mode was tried.
+fn mode_seeds(
+    avoid: &[f64],
+    margin: f64,
+    max_damping: f64,
+    localisation: &Localisation,
+    fallback: &[(f64, f64)],
+) -> Vec<Seed> {
     let record = record_length(localisation);
-    let mut seeds: Vec<Seed> = Vec::new();
-    for m in localisation.residual_modes.iter().chain(&localisation.data_modes) {
-        let f = m.frequency_hz;
-        let near_servo = avoid.iter().any(|s| (f / s - 1.0).abs() < margin);
-        if !(m.physical && m.damping_ratio < max_damping)
-            || near_servo
-            || seeds.iter().any(|s| (s.frequency / f - 1.0).abs() < 0.1)
-        {
-            continue;
-        }
-        // A mode needs three cycles in the record to be told from a trend.
-        let mut limits = (MIN_CYCLES / record, f64::INFINITY);
-        for &s in avoid {
-            if s < f {
-                limits.0 = limits.0.max((1.0 + margin) * s);
-            } else {
-                limits.1 = limits.1.min(s / (1.0 + margin));
+    let found: Vec<(f64, f64)> = localisation
+        .residual_modes
+        .iter()
+        .chain(&localisation.data_modes)
+        .filter(|m| m.physical)
+        .map(|m| (m.frequency_hz, m.damping_ratio))
+        .collect();
+    let seeded = |modes: &[(f64, f64)]| {
+        let mut seeds: Vec<Seed> = Vec::new();
+        for &(f, damping) in modes {
+            let near_servo = avoid.iter().any(|s| (f / s - 1.0).abs() < margin);
+            // (A NaN damping ratio is no seed either.)
+            let damped_enough = damping < max_damping;
+            if !damped_enough || near_servo || seeds.iter().any(|s| (s.frequency / f - 1.0).abs() < 0.1) {
+                continue;
+            }
+            // A mode needs three cycles in the record to be told from a trend.
+            let mut limits = (MIN_CYCLES / record, f64::INFINITY);
+            for &s in avoid {
+                if s < f {
+                    limits.0 = limits.0.max((1.0 + margin) * s);
+                } else {
+                    limits.1 = limits.1.min(s / (1.0 + margin));
+                }
+            }
+            let range = about(f, limits);
+            if range.0 < f && f < range.1 {
+                seeds.push(Seed { frequency: f, damping, range, limits });
+            }
+            if seeds.len() == 2 {
+                break;
             }
         }
-        let range = about(f, limits);
-        if range.0 < f && f < range.1 {
-            seeds.push(Seed { frequency: f, damping: m.damping_ratio, range, limits });
-        }
-        if seeds.len() == 2 {
-            break;
-        }
-    }
-    seeds
+        seeds
+    };
+    let seeds = seeded(&found);
+    if seeds.is_empty() { seeded(fallback) } else { seeds }
 }
 
 #[cfg(test)]
@@ -434,5 +455,37 @@ mod tests {
         // Upwards alike.
         assert_eq!(located.moved((0.8, 3.2), 3.2, Side::Upper), Some((1.6, 6.4)));
         assert_eq!(located.moved((3.2, 10.0), 10.0, Side::Upper), None);
+    }
+
+    /// The fallback seeds only where neither record shows a mode, under the same rules.
+    #[test]
+    fn the_models_mode_is_seeded_only_where_the_record_shows_none() {
+        let mode = |f: f64| era::EraMode {
+            frequency_hz: f,
+            damping_ratio: 0.03,
+            consistency: 1.0,
+            mpc: Some(1.0),
+            contribution: 0.5,
+            physical: true,
+        };
+        let record = |modes: Vec<era::EraMode>| Localisation {
+            outputs: Vec::new(),
+            windows: vec![(0.0, 30.0, 1.0)],
+            decrement_vs_amplitude: Vec::new(),
+            decrement_trend: 0.0,
+            residual_modes: Vec::new(),
+            data_modes: modes,
+            findings: Vec::new(),
+        };
+        let fallback = [(1.7, 0.01)];
+        let frequencies = |l: &Localisation| -> Vec<f64> {
+            mode_seeds(&[0.15], 0.25, LIGHTLY_DAMPED, l, &fallback).iter().map(|s| s.frequency).collect()
+        };
+        assert_eq!(frequencies(&record(Vec::new())), [1.7]);
+        assert_eq!(frequencies(&record(vec![mode(5.3)])), [5.3]);
+        // A mode near the servo is no seed, and then neither record shows one.
+        assert_eq!(frequencies(&record(vec![mode(0.16)])), [1.7]);
+        let seeds = mode_seeds(&[0.15], 0.25, LIGHTLY_DAMPED, &record(Vec::new()), &fallback);
+        assert_eq!((seeds[0].range, seeds[0].damping), ((0.85, 3.4), 0.01));
     }
 }

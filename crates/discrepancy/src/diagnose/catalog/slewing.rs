@@ -276,13 +276,16 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
             );
         }
     }
-    let servo = model
-        .modal()
-        .ok()
-        .and_then(|rows| rows.into_iter().find(|r| r.kind == ModeKind::Servo))
-        .map(|r| r.frequency_hz);
-    let servo: Vec<f64> = servo.into_iter().collect();
-    for seed in mode_seeds(&servo, 0.25, LIGHTLY_DAMPED, localisation) {
+    let modal = model.modal().unwrap_or_default();
+    let servo: Vec<f64> =
+        modal.iter().filter(|r| r.kind == ModeKind::Servo).map(|r| r.frequency_hz).take(1).collect();
+    // Where the record shows no mode, the model's first flexible mode is seeded ([`mode_seeds`]).
+    let first_flexible: Vec<(f64, f64)> = modal
+        .iter()
+        .filter(|r| r.kind == ModeKind::Flexible(1))
+        .map(|r| (r.frequency_hz, r.damping_ratio))
+        .collect();
+    for seed in mode_seeds(&servo, 0.25, LIGHTLY_DAMPED, localisation, &first_flexible) {
         let (f, (low, high)) = (seed.frequency, seed.range);
         let damping = seed.damping.clamp(0.005, 0.15);
         let bounds = [
@@ -323,7 +326,7 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
     // well (its share of 2ζω is at least c_d²/d_hub), so a mode coupled this way strongly is a
     // well damped one: its damping ratio may reach 0.5, and so may its seed's.
     let zeta_max = 0.5;
-    for seed in mode_seeds(&servo, 0.25, zeta_max, localisation) {
+    for seed in mode_seeds(&servo, 0.25, zeta_max, localisation, &first_flexible) {
         let (f, (low, high)) = (seed.frequency, seed.range);
         let damping = seed.damping.clamp(0.005, 0.9 * zeta_max);
         let d_hub = c.viscous_damping + c.back_emf_constant * c.torque_constant / c.armature_resistance;

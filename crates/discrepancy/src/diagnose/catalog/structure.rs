@@ -230,7 +230,7 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
     // a seed's range stops 15 % short of the modelled modes around it.
     let modelled: Vec<f64> =
         model.modes().map(|m| m.iter().map(|r| r.frequency_hz).collect()).unwrap_or_default();
-    for seed in mode_seeds(&modelled, 0.15, LIGHTLY_DAMPED, localisation) {
+    for seed in mode_seeds(&modelled, 0.15, LIGHTLY_DAMPED, localisation, &[]) {
         let (f, zeta, (low, high)) = (seed.frequency, seed.damping, seed.range);
         let amplitudes: Vec<(f64, f64)> = localisation.outputs.iter().map(|o| (o.rms, 0.0)).collect();
         let located = Located {
