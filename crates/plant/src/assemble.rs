@@ -238,7 +238,7 @@ pub struct FirstOrder<D: Scalar> {
 /// with the effects' states:
 /// * time delay τ (Padé(1,1)): the servo acts on θ_d = −θ + w instead of θ, ẇ = (2/τ)(2θ − w);
 /// * a sensor read late by τ_s (Padé(1,1)): ẇ_s = (2/τ_s)(2y − w_s), y = c·x its undelayed
-///   reading ([`crate::sensors::reading`]); the output matrix reads −y + w_s.
+///   reading (the sensor's row of C before the lag); the output matrix reads −y + w_s.
 ///
 /// # Errors
 /// [`PlantError::SingularMass`] if M cannot be factorised.

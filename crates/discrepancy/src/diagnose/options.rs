@@ -27,7 +27,7 @@ pub struct DiagnoseOptions {
     /// about a gain of 1 for the calibration). Where one of the model's own parameters, refitted
     /// alone, ties with a named sensor scale in sample, each account is charged
     /// Σ ln²(p̂/p_file)/(2(τ² + σ²)) nats for the values it moves, σ the relative standard error
-    /// of p̂ in its refit ([`Departures`]). The default,
+    /// of p̂ in its refit ([`Departures`](super::Departures)). The default,
     /// [`DEFAULT_FILE_TOLERANCE`], is 5 %.
     pub file_tolerance: f64,
 }
@@ -37,7 +37,7 @@ pub struct DiagnoseOptions {
 /// section) and what a strain gauge's or a tachometer's calibration is rarely known better than.
 pub const DEFAULT_FILE_TOLERANCE: f64 = 0.05;
 
-/// The share of the reference residual's predictable structure ([`evidence::structure`]) a
+/// The share of the reference residual's predictable structure ([`evidence::structure`](super::evidence::structure)) a
 /// named effect must remove: the physics that is missing explains the structure it leaves,
 /// a stand-in only shaves it.
 pub const MIN_STRUCTURE_EXPLAINED: f64 = 0.1;
@@ -76,7 +76,7 @@ pub const MIN_MODE_STRUCTURE_EXPLAINED: f64 = 0.5;
 pub const MIN_SPRING_STRUCTURE_EXPLAINED: f64 = 0.5;
 
 /// The bar on the share of the reference residual's structure a candidate of this kind must
-/// remove to be named ([`Verdict::Superficial`] below it): [`MIN_MODE_STRUCTURE_EXPLAINED`] for
+/// remove to be named ([`Verdict::Superficial`](super::Verdict::Superficial) below it): [`MIN_MODE_STRUCTURE_EXPLAINED`] for
 /// an unmodeled mode, [`MIN_SPRING_STRUCTURE_EXPLAINED`] for a cubic stiffness,
 /// [`MIN_STRUCTURE_EXPLAINED`] for the rest.
 pub fn min_structure_explained(kind: EffectKind) -> f64 {
