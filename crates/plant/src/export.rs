@@ -12,7 +12,8 @@ fn rows(m: &Mat<f64>) -> Value {
 
 impl SlewingModel {
     /// `{"name", "states", "outputs", "M", "D", "K", "B", "A", "C", "x0"}` with matrices as
-    /// arrays of rows; states are [θ, q_1..q_n, θ̇, q̇_1..q̇_n].
+    /// arrays of rows; states are [θ, q_1..q_n, θ̇, q̇_1..q̇_n], then the effects' states
+    /// (`eta`, `theta_m` among the coordinates; `delay_w`, `lag_w_<output>` after the rates).
     ///
     /// # Errors
     /// As [`SlewingModel::state_space`].
@@ -33,6 +34,11 @@ impl SlewingModel {
         if layout.delay.is_some() {
             states.push("delay_w".into());
         }
+        // The lag states follow, in the order the layout numbered them.
+        let mut lags: Vec<(usize, crate::Sensor)> =
+            crate::Sensor::ALL.into_iter().filter_map(|s| Some((layout.lags[s.index()]?, s))).collect();
+        lags.sort_unstable_by_key(|(w, _)| *w);
+        states.extend(lags.into_iter().map(|(_, s)| format!("lag_w_{}", s.output_name())));
         Ok(json!({
             "name": self.file().name,
             "states": states,

@@ -345,7 +345,7 @@ impl SlewingModel {
         // A lagged sensor's state held at its reading (w = 2y(0), so −y + w = y(0)): the
         // potentiometer reads θ(0), the tachometer the rate, the strain gauge nothing (the beam
         // starts undeformed, its modal coordinates at zero).
-        for sensor in [Sensor::Potentiometer, Sensor::Tachometer, Sensor::StrainGauge] {
+        for sensor in Sensor::ALL {
             if let Some(w) = layout.lags[sensor.index()] {
                 x[w] = 2.0
                     * match sensor {

@@ -19,8 +19,11 @@ pub enum Sensor {
 }
 
 impl Sensor {
+    /// Every sensor of the rig, in [`Sensor::index`] order.
+    pub const ALL: [Sensor; 3] = [Sensor::Potentiometer, Sensor::Tachometer, Sensor::StrainGauge];
+
     /// How many sensors the rig has.
-    pub const COUNT: usize = 3;
+    pub const COUNT: usize = Self::ALL.len();
 
     /// The sensor's place among the [`Sensor::COUNT`] (for per-sensor tables).
     pub const fn index(self) -> usize {

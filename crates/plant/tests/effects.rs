@@ -360,6 +360,13 @@ fn a_sensor_read_late_holds_its_reading_at_rest_and_leaves_the_dynamics_alone() 
     assert!((reading(0) - x0[0]).abs() < 1e-15, "θ read {} against {}", reading(0), x0[0]);
     assert_eq!(reading(2), 0.0);
     assert!(m.parameter("lag_theta").is_ok() && m.parameter("lag_theta_dot").is_err());
+    // The export names every state, the lags' last, in the layout's order.
+    let json = with_effects("SensorLag(sensor: StrainGauge, lag: 0.001), TimeDelay(delay: 0.01), SensorLag(sensor: Potentiometer, lag: 0.003)")
+        .matrices_json()
+        .unwrap();
+    let states: Vec<&str> = json["states"].as_array().unwrap().iter().map(|s| s.as_str().unwrap()).collect();
+    assert_eq!(states.len(), json["A"].as_array().unwrap().len());
+    assert_eq!(states[states.len() - 3..], ["delay_w", "lag_w_strain", "lag_w_theta"]);
     let bad = plant::PAPER_MODEL_RON
         .replace("    bounds: {", "    effects: [SensorLag(sensor: Tachometer, lag: 0.0)],\n    bounds: {");
     let msg = SlewingModel::from_ron(&bad, "bad.ron").unwrap_err().to_string();
