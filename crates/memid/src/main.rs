@@ -62,6 +62,14 @@ fn one_line(e: &anyhow::Error) -> String {
     line.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
+/// A clap error message on one line: its lines up to the usage block, trimmed and joined.
+fn clap_line(text: &str) -> String {
+    let lines =
+        text.lines().take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more information"));
+    let joined = lines.map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join(" ");
+    joined.trim_start_matches("error: ").to_string()
+}
+
 fn main() -> ExitCode {
     io::install_signal_cleanup();
     if std::env::args_os().len() <= 1 {
@@ -84,11 +92,12 @@ fn main() -> ExitCode {
                     ExitCode::from(2)
                 }
                 _ => {
-                    // clap's own message, on one line, without its usage block.
+                    // clap's own message (with what it lists: the missing arguments, a tip), on
+                    // one line, without its usage block.
                     let text = e.render().to_string();
-                    let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("invalid arguments");
-                    let first = first.trim_start_matches("error: ").trim();
-                    eprintln!("memid: error: {first} (see `memid --help`)");
+                    let message = clap_line(&text);
+                    let message = if message.is_empty() { "invalid arguments" } else { &message };
+                    eprintln!("memid: error: {message} (see `memid --help`)");
                     ExitCode::from(2)
                 }
             };

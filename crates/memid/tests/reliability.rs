@@ -484,3 +484,26 @@ fn fuzz_short() {
 fn fuzz_long() {
     fuzz(1000, 11);
 }
+
+#[test]
+fn an_argument_error_names_what_is_missing_or_allowed_on_its_one_line() {
+    // clap lists the missing arguments and the allowed values on lines of their own; the
+    // one-line error keeps them (it once kept only the first line, which names neither).
+    let dir = scratch("clap");
+    let (_, _) = inputs(&dir);
+    for (args, needs) in [
+        (vec!["diagnose", "--model", "m.ron", "--data", "d.csv"], vec!["--free"]),
+        (vec!["simulate"], vec!["--model", "--output"]),
+        (
+            vec!["fit", "--model", "m.ron", "--data", "d.csv", "--covariance", "x"],
+            vec!["auto", "white", "ar1"],
+        ),
+    ] {
+        let out = memid_in(&dir, &args);
+        assert_one_line_error(&out, &args.join(" "));
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        for word in needs {
+            assert!(stderr.contains(word), "{}: {word} not named in {stderr}", args.join(" "));
+        }
+    }
+}
