@@ -3,7 +3,6 @@
 use mem::FitReport;
 use models::FitOutcome;
 use models::ModeRow;
-use plant::ModeKind;
 use serde_json::{Value, json};
 
 /// A fit as JSON: the report's own fields (docs/json.md), with a per-parameter summary and the
@@ -92,14 +91,6 @@ pub fn era_json(result: &era::EraResult) -> Value {
             "physical": m.physical,
         })).collect::<Vec<_>>(),
     })
-}
-
-/// "servo" or "flexible_<i>".
-pub fn kind(k: ModeKind) -> String {
-    match k {
-        ModeKind::Servo => "servo".into(),
-        ModeKind::Flexible(i) => format!("flexible_{i}"),
-    }
 }
 
 /// The fit table in the spirit of the paper's Table 1 (the report's own summary).

@@ -41,16 +41,16 @@ impl SlewingFitModel {
         self.free.iter().map(|id| self.model.get(*id)).collect()
     }
 
-    /// Bounds from the model file, or (0⁺, ∞), [0, ∞) or (−∞, ∞) by the parameter's sign rule.
+    /// Bounds from the model file, or (0⁺, ∞), [0, ∞) or (−∞, ∞) by the parameter's sign rule;
+    /// a lower bound below the smallest value the parameter may take ([`plant::ParamId::lowest`],
+    /// e.g. [`plant::MIN_DELAY`] for a delay) is raised to it, so no step leaves the model's
+    /// domain.
     pub fn bounds(&self) -> Vec<(f64, f64)> {
         self.free
             .iter()
             .map(|id| {
-                self.model.bounds(*id).unwrap_or(match id.sign_rule() {
-                    plant::SignRule::Positive => (f64::MIN_POSITIVE, f64::INFINITY),
-                    plant::SignRule::NonNegative => (0.0, f64::INFINITY),
-                    plant::SignRule::Any => (f64::NEG_INFINITY, f64::INFINITY),
-                })
+                let (lo, hi) = self.model.bounds(*id).unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+                (lo.max(id.lowest()), hi)
             })
             .collect()
     }

@@ -210,3 +210,28 @@ fn a_sensor_read_late_reads_the_signal_of_a_moment_before() {
         }
     }
 }
+
+#[test]
+fn a_fit_never_steps_below_the_least_a_parameter_may_take() {
+    // A file's lower bound below a parameter's domain (0 for a delay, −5 for a damping) is raised
+    // to the least value the plant accepts, so a fit clamped to its bounds never asks the model
+    // for a value it refuses; parameters without bounds get their sign rule's domain.
+    let text = plant::PAPER_MODEL_RON.replace(
+        "    bounds: {",
+        "    effects: [TimeDelay(delay: 0.01), SensorLag(sensor: StrainGauge, lag: 0.002)],\n    \
+         bounds: {\n        \"delay\": (0.0, 1.0),\n        \"cv\": (-5.0, 10.0),",
+    );
+    let model = SlewingModel::from_ron(&text, "bounds.ron").unwrap();
+    let fit =
+        models::SlewingFitModel::new(model, &["delay", "cv", "lag_strain", "kp", "ei_over_rho"]).unwrap();
+    assert_eq!(
+        fit.bounds(),
+        vec![
+            (plant::MIN_DELAY, 1.0),
+            (0.0, 10.0),
+            (plant::MIN_DELAY, f64::INFINITY),
+            (0.1, 100.0),
+            (f64::MIN_POSITIVE, f64::INFINITY)
+        ]
+    );
+}

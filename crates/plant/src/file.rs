@@ -255,6 +255,14 @@ impl ModelFile {
             if lo.partial_cmp(hi) != Some(std::cmp::Ordering::Less) {
                 return Err(invalid("bounds", *lo, format!("bounds of `{name}` must have lower < upper")));
             }
+            let lowest = ParamId::parse_among(name, &ids)?.lowest();
+            if *hi <= lowest {
+                return Err(invalid(
+                    "bounds",
+                    *hi,
+                    format!("the upper bound of `{name}` must exceed {lowest:e}, the least it may take"),
+                ));
+            }
         }
         Ok(())
     }

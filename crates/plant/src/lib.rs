@@ -50,5 +50,5 @@ pub use file::{
 };
 pub use modal::{ModalRow, ModeKind, RawMode, modes_of};
 pub use model::{Linearization, PAPER_MODEL_RON, SlewingModel, StateSpace};
-pub use params::{Constants, ParamId, SignRule};
+pub use params::{Constants, MIN_DELAY, ParamId, SignRule};
 pub use sensors::Sensor;

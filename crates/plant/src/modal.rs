@@ -10,8 +10,23 @@ use serde::Serialize;
 pub enum ModeKind {
     /// The servo (hub) mode: hub rotation against the position loop.
     Servo,
-    /// A flexible beam mode (1-based, in frequency order among the flexible modes).
+    /// A flexible beam mode (1-based, in frequency order among the flexible modes; an
+    /// unmodeled mode of the effects counts among them).
     Flexible(usize),
+    /// The pole of the loop's transport delay ([`crate::Effect::TimeDelay`]'s Padé state, near
+    /// −2/τ): the mode whose eigenvector lies most in the delay state.
+    Delay,
+}
+
+impl ModeKind {
+    /// The name tables and JSON give the mode: `servo`, `flexible_<i>` or `delay`.
+    pub fn name(self) -> String {
+        match self {
+            ModeKind::Servo => "servo".into(),
+            ModeKind::Flexible(i) => format!("flexible_{i}"),
+            ModeKind::Delay => "delay".into(),
+        }
+    }
 }
 
 /// One closed-loop mode.
@@ -39,6 +54,8 @@ pub struct RawMode {
     /// |v_i| for the first `n_dof` entries of the eigenvector (the displacements for A in
     /// [q; q̇] form).
     pub displacement: Vec<f64>,
+    /// |v_i| for every entry of the unit eigenvector.
+    pub magnitudes: Vec<f64>,
 }
 
 /// Modes of any real A: one per complex pair (taking Im s > 0) or real eigenvalue, sorted by
@@ -62,6 +79,11 @@ pub fn modes_of(a: &Mat<f64>, n_dof: usize) -> Result<Vec<RawMode>, PlantError> 
             damping_ratio: if modulus > 0.0 { -ev.re / modulus } else { 1.0 },
             eigenvalue: (ev.re, ev.im),
             displacement: (0..n_dof).map(|i| (u[(i, k)].re.powi(2) + u[(i, k)].im.powi(2)).sqrt()).collect(),
+            magnitudes: {
+                let m: Vec<f64> = (0..a.nrows()).map(|i| u[(i, k)].re.hypot(u[(i, k)].im)).collect();
+                let norm = m.iter().map(|v| v * v).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
+                m.into_iter().map(|v| v / norm).collect()
+            },
         });
     }
     rows.sort_by(|x, y| x.frequency_hz.total_cmp(&y.frequency_hz));
@@ -71,14 +93,29 @@ pub fn modes_of(a: &Mat<f64>, n_dof: usize) -> Result<Vec<RawMode>, PlantError> 
 impl SlewingModel {
     /// Closed-loop frequencies (Hz) and damping ratios, with the servo mode identified as the
     /// mode whose hub rotation carries the largest share of the mass-weighted motion
-    /// Σ_j M_jj |v_j|², and the flexible modes numbered in frequency order.
+    /// Σ_j M_jj |v_j|², and the flexible modes numbered in frequency order. A loop delay's
+    /// Padé pole is listed as [`ModeKind::Delay`]. A channel read late
+    /// ([`crate::Effect::SensorLag`]) is outside the loop: its state feeds no other, so A is
+    /// block triangular and its pole −2/τ_s is no mode of the rig; it is left out, and the
+    /// eigenvalues are those of the loop's block alone (with it, the stiff pole of a short lag
+    /// would cost the others their accuracy).
     ///
     /// # Errors
     /// As [`SlewingModel::state_space`].
     pub fn modal(&self) -> Result<Vec<ModalRow>, PlantError> {
         let ss = self.state_space()?;
-        let n_dof = self.n_modes() + 1;
-        let rows = modes_of(&ss.a, n_dof)?;
+        let layout = self.layout();
+        let n_dof = layout.n_dof;
+        // The lag states are the last ones (Layout::of); the loop's states lead.
+        let n_loop = layout.n_states - layout.lags.iter().flatten().count();
+        let a = ss.a.subrows(0, n_loop).subcols(0, n_loop).to_owned();
+        let rows = modes_of(&a, n_dof)?;
+        let delay = layout.delay.and_then(|w| {
+            rows.iter()
+                .enumerate()
+                .max_by(|x, y| x.1.magnitudes[w].total_cmp(&y.1.magnitudes[w]))
+                .map(|(i, _)| i)
+        });
         let hub_share = |shape: &Vec<f64>| {
             let total: f64 = (0..n_dof).map(|j| ss.m[(j, j)] * shape[j] * shape[j]).sum();
             ss.m[(0, 0)] * shape[0] * shape[0] / total.max(f64::MIN_POSITIVE)
@@ -86,6 +123,7 @@ impl SlewingModel {
         let servo = rows
             .iter()
             .enumerate()
+            .filter(|(i, _)| Some(*i) != delay)
             .max_by(|x, y| hub_share(&x.1.displacement).total_cmp(&hub_share(&y.1.displacement)))
             .map(|(i, _)| i);
         let mut flexible = 0;
@@ -95,6 +133,8 @@ impl SlewingModel {
             .map(|(i, raw)| {
                 let kind = if Some(i) == servo {
                     ModeKind::Servo
+                } else if Some(i) == delay {
+                    ModeKind::Delay
                 } else {
                     flexible += 1;
                     ModeKind::Flexible(flexible)

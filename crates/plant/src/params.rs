@@ -128,6 +128,13 @@ pub enum ParamId {
     StribeckVelocity,
 }
 
+/// The shortest transport delay or channel lag a model accepts [s].
+///
+/// A delay τ enters A through its Padé state with entries of order 1/τ; below about 10⁻⁹ s the
+/// exponential of so stiff an A no longer keeps the other states' accuracy (at 10⁻³⁰⁰ s the strain
+/// is off by 1 %), while a delay of a nanosecond is no delay at any rate a rig is sampled at.
+pub const MIN_DELAY: f64 = 1e-9;
+
 /// The sign a parameter may take.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SignRule {
@@ -262,9 +269,33 @@ impl ParamId {
         self.sign_rule() == SignRule::Positive
     }
 
+    /// Whether the parameter is a delay (of the loop or of a sensor's channel), held to at
+    /// least [`MIN_DELAY`].
+    pub fn is_delay(self) -> bool {
+        matches!(self, ParamId::Delay | ParamId::Lag(_))
+    }
+
+    /// The smallest value the parameter may take: [`MIN_DELAY`] for a delay, the smallest
+    /// positive normal number for other positive parameters, 0 or −∞ by the sign rule. A fit's
+    /// lower bound is never below it.
+    pub fn lowest(self) -> f64 {
+        match self.sign_rule() {
+            SignRule::Positive if self.is_delay() => MIN_DELAY,
+            SignRule::Positive => f64::MIN_POSITIVE,
+            SignRule::NonNegative => 0.0,
+            SignRule::Any => f64::NEG_INFINITY,
+        }
+    }
+
     /// Checks a value against the sign rule; `Err` holds the requirement.
     pub fn check(self, value: f64) -> Result<(), String> {
         let rule = self.sign_rule();
+        if self.is_delay() && !(value.is_finite() && value >= MIN_DELAY) {
+            return Err(format!(
+                "must be finite and ≥ {MIN_DELAY:e} s (a shorter delay is no delay at the \
+                 exponential's precision: remove the effect instead)"
+            ));
+        }
         let ok = value.is_finite()
             && match rule {
                 SignRule::Positive => value > 0.0,

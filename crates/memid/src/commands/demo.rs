@@ -2,7 +2,7 @@
 
 use crate::commands::fit::prepare;
 use crate::io::{Inputs, Outputs, print};
-use crate::output::{era_json, era_table, fit_json, fit_table, kind, modal_json};
+use crate::output::{era_json, era_table, fit_json, fit_table, modal_json};
 use crate::progress::spinner;
 use crate::report::Report;
 use anyhow::Result;
@@ -215,7 +215,7 @@ pub fn run(args: Args) -> Result<()> {
                 .iter()
                 .map(|r| format!(
                     "{} {:.4} Hz {:.2} %",
-                    kind(r.kind),
+                    r.kind.name(),
                     r.frequency_hz,
                     100.0 * r.damping_ratio
                 ))

@@ -16,10 +16,7 @@ impl Model {
                 .modal()?
                 .into_iter()
                 .map(|r| ModeRow {
-                    kind: match r.kind {
-                        plant::ModeKind::Servo => "servo".into(),
-                        plant::ModeKind::Flexible(i) => format!("flexible_{i}"),
-                    },
+                    kind: r.kind.name(),
                     frequency_hz: r.frequency_hz,
                     damping_ratio: r.damping_ratio,
                     eigenvalue: r.eigenvalue,
