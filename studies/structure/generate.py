@@ -24,7 +24,14 @@ Families (as studies/diagnose, so that its score.py scores them):
      that loses 2 / 5 / 10 % of its stiffness by the record's end, by an exponential law in time
      (tau 1-4 s) or in a sudden smooth step (tanh, at 1-4 s, width 0.3 s)
 
+With --accelerations the records are the floor accelerations a1, a3 (q'' from the equations of
+motion, the effects' forces included) instead of the displacements, diagnosed with
+fixtures/shear_building_acc2.ron; the truth's draws are the same as without it, so a seed gives
+the same buildings, effects and noise sequences read by other sensors. Sensor effects act on
+a1 or a3, at the same strengths relative to the column's noise.
+
 usage:  python3 studies/structure/generate.py --out DIR --set dev|held [--seed N] [--more-c] [--more-degrading]
+                                              [--accelerations]
 """
 import argparse
 import json
@@ -38,6 +45,9 @@ H, N = 0.005, 2001
 Q0 = np.array([0.01, 0.02, 0.03])
 TRUTH = dict(k=(2.62e6, 2.16e6, 1.96e6), alpha=0.42, beta=1.18e-3)
 FREE = "k1,k2,k3,alpha,beta"
+# What the records measure: the displacements q1, q3 (columns 0, 2 of simulate's q, v, q''), or
+# with --accelerations the accelerations of floors 1 and 3 (columns 6, 8); set in main().
+MEASURED, COLUMNS, MODEL = [0, 2], ["q1", "q3"], "shear_building.ron"
 
 
 def matrices(rng, mass2=1000.0, modal=None):
@@ -84,12 +94,13 @@ def simulate(M, K, D, force=None, extra=None):
     sol = solve_ivp(rhs, (0.0, t[-1]), x0, method="DOP853", t_eval=t, rtol=1e-9, atol=1e-12, max_step=H)
     if not sol.success:
         raise RuntimeError(sol.message)
-    return sol.y[:6].T  # (N, 6): q, v
+    acc = np.array([rhs(tk, sol.y[:, k])[3:6] for k, tk in enumerate(t)])
+    return np.hstack([sol.y[:6].T, acc])  # (N, 9): q, v, q''
 
 
 def peaks(M, K, D):
     x = simulate(M, K, D)
-    return np.max(np.abs(x[:, :3]), axis=0), np.max(np.abs(x[:, 3:]), axis=0)
+    return np.max(np.abs(x[:, :3]), axis=0), np.max(np.abs(x[:, 3:6]), axis=0)
 
 
 def noise(rng, clean, level, rho):
@@ -110,7 +121,7 @@ def case_a(rng, kind, strength):
     qpk, vpk = peaks(M, K, D)
     j = int(rng.integers(0, 3))
     o = int(rng.integers(0, 2))  # which output a sensor effect is on
-    out_name = ["q1", "q3"][o]
+    out_name = COLUMNS[o]
     level, rho = rng.uniform(0.005, 0.02), [0.0, 0.0, 0.5][int(rng.integers(0, 3))]
     force, extra, post, truth = None, None, None, {}
     if kind == "cubic":
@@ -138,7 +149,7 @@ def case_a(rng, kind, strength):
                 "quantization": "sensor_quantization"}[kind]
         truth = dict(sensor=out_name)
     x = simulate(M, K, D, force, extra)
-    clean = x[:, [0, 2]].copy()
+    clean = x[:, MEASURED].copy()
     e, sigma = noise(rng, clean, level, rho)
     y = clean + e
     t = np.arange(N) * H
@@ -175,7 +186,7 @@ def case_b(rng, kind):
     else:  # mass
         M, K, D = matrices(rng, mass2=1000.0 * float(rng.choice([0.85, 1.15])))
     x = simulate(M, K, D)
-    clean = x[:, [0, 2]].copy()
+    clean = x[:, MEASURED].copy()
     level = rng.uniform(0.005, 0.02)
     e, _ = noise(rng, clean, level, rho)
     return clean + e, dict(level=level, rho=rho, null_kind=kind, effects=[])
@@ -228,7 +239,7 @@ def case_c(rng, kind, strength):
         force = lambda q, v, t: np.array([0.0, 0.0, -kstop * max(q[2] - gap, 0.0)])
         truth = dict(kind="pounding", gap=gap, k_stop=kstop)
     x = simulate(M, K, D, force)
-    clean = x[:, [0, 2]].copy()
+    clean = x[:, MEASURED].copy()
     level = rng.uniform(0.005, 0.02)
     e, _ = noise(rng, clean, level, 0.0)
     truth.update(level=level, effects=[])
@@ -246,20 +257,25 @@ def main():
     ap.add_argument("--more-degrading", action="store_true",
                     help="append family-C degradations absent from dev and held: a storey (any of the three) that "
                          "loses stiffness by an exponential law in time or in a sudden smooth step (12 cases)")
+    ap.add_argument("--accelerations", action="store_true",
+                    help="record the accelerations a1, a3 (fixtures/shear_building_acc2.ron) instead of q1, q3")
     opt = ap.parse_args()
+    global MEASURED, COLUMNS, MODEL
+    if opt.accelerations:
+        MEASURED, COLUMNS, MODEL = [6, 8], ["a1", "a3"], "shear_building_acc2.ron"
     rng = np.random.default_rng(opt.seed if opt.seed is not None else (20261123 if opt.set == "dev" else 20261124))
     os.makedirs(os.path.join(opt.out, "data"), exist_ok=True)
     here = os.path.dirname(os.path.abspath(__file__))
-    shutil.copy(os.path.join(here, "..", "..", "fixtures", "shear_building.ron"), os.path.join(opt.out, "shear_building.ron"))
+    shutil.copy(os.path.join(here, "..", "..", "fixtures", MODEL), os.path.join(opt.out, MODEL))
     cases = []
 
     def write(name, y, family, effect, accept, strength, truth):
         path = os.path.join("data", name + ".csv")
         with open(os.path.join(opt.out, path), "w") as f:
-            f.write("t,q1,q3\n")
+            f.write(f"t,{COLUMNS[0]},{COLUMNS[1]}\n")
             for k in range(N):
                 f.write(f"{k * H!r},{float(y[k, 0])!r},{float(y[k, 1])!r}\n")
-        cases.append(dict(name=name, model="shear_building.ron", data=path, free=FREE, args=[], family=family,
+        cases.append(dict(name=name, model=MODEL, data=path, free=FREE, args=[], family=family,
                           effect=effect, accept=accept, strength=strength, truth=truth))
 
     for kind in ["cubic", "friction", "drag", "offset", "scale", "drift", "quantization", "appendage"]:

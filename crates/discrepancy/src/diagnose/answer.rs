@@ -318,6 +318,12 @@ pub enum Verdict {
     /// ([`SpringForm`]): the stiffness changes during the record, not with amplitude — outside
     /// the catalog, so nothing is named.
     TimeVarying,
+    /// Chosen by its held-out evidence, but a candidate set aside as a stand-in
+    /// ([`Verdict::Superficial`], [`Verdict::LeavesItsOutput`]) predicts the held-out blocks
+    /// better by the threshold and removes at least as much of the residual's structure: what
+    /// is missing is accounted for better than by this effect, and what accounts for it better
+    /// only stands in for it — physics outside the catalog, so nothing is named.
+    Outpredicted,
     /// A lattice that is not there, or a step far below the noise.
     NoLattice,
     /// The refit failed (the message says why).

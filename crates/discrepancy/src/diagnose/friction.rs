@@ -88,33 +88,77 @@ pub(super) fn static_peak(candidate: &mut Candidate, trial: &Trial, test: &FormT
     Some(result)
 }
 
-/// The fade test of a named dry friction on the slewing rig, in the form it is named with (its
-/// static peak, where demanded): does a servo whose stiffness falls with time explain what the
-/// friction stands for? A motor whose torque constant fades as it
-/// warms (its magnets' flux falls, its winding's resistance rises) delivers less torque for the
-/// same error as the record goes on, and a constant friction, which also takes torque away,
-/// stands in for it. From the candidate's fit, with a linear hub stiffness that grows at a rate
-/// k₁′ (−k₁′·t·θ, the hub spring's `stiffness_rate`, within ± the servo's stiffness over the
-/// record) added at zero, the friction is refitted to the fitter's own convergence as it is and
-/// with k₁′ free beside it. The fade is demanded when k₁′ is a loss (negative), determined, and
-/// gains at least the held-out threshold or lies [`super::spring::WALD_Z`] standard errors from
-/// zero, as for the hub spring: the friction is then [`super::Verdict::TimeVarying`] and not
-/// named. `None` for another candidate or model, or when a refit fails.
-pub(super) fn fading(candidate: &Candidate, test: &FormTest) -> Option<SpringTerm> {
+/// The fade test of a named dry friction, in the form it is named with (its static peak, where
+/// demanded): does a stiffness that changes with time explain what the friction stands for?
+///
+/// * On the slewing rig, a servo whose stiffness falls with time: a motor whose torque constant
+///   fades as it warms (its magnets' flux falls, its winding's resistance rises) delivers less
+///   torque for the same error as the record goes on, and a constant friction, which also takes
+///   torque away, stands in for it. The term is a linear hub stiffness that grows at a rate k₁′
+///   (−k₁′·t·θ, the hub spring's `stiffness_rate`, within ± the servo's stiffness over the
+///   record), and only a loss (k₁′ < 0) is demanded, as for the hub spring.
+/// * On a structure, a stiffness at the friction's coordinate c that changes with time (a storey
+///   that degrades or a joint that loosens during the record), −k₁′·t·q_c
+///   (`stiffness_rate_<c>`, within ±k_cc/(2T) as in the spring's form test), of either sign.
+///   A dry friction takes energy out at a constant force, so the amplitude falls linearly; a
+///   stiffness that degrades moves the frequencies as the record goes on, and with an
+///   accelerometer's record, where each cycle's phase weighs heavily, a friction was named for
+///   it (three storeys degrading by other laws, in a probe of floor accelerations).
+///
+/// From the candidate's fit, with the term added at zero, the friction is refitted to the
+/// fitter's own convergence as it is and with k₁′ free beside it. On the slewing rig the change
+/// is demanded when k₁′ is determined and gains at least the held-out threshold or lies
+/// [`super::spring::WALD_Z`] standard errors from zero. On a structure it must gain more than
+/// the friction itself gained over the reference (and at least the threshold): the change is
+/// then the larger part of what is missing, and the friction at most a correction beside it. A
+/// strong true friction, 7,369 nats in sample, let k₁′ take up 84 nats (z 8.6) of the misfit its
+/// smooth sign leaves against another form; the degradations it stood for gave k₁′ 807 nats
+/// beside a friction of 44. Demanded, the friction is [`super::Verdict::TimeVarying`] and not
+/// named. `None` for another candidate, or when a refit fails.
+pub(super) fn fading(candidate: &Candidate, trial: &Trial, test: &FormTest) -> Option<SpringTerm> {
     let FormTest { free, data, threshold, gain, .. } = *test;
     if candidate.kind != EffectKind::CoulombFriction {
         return None;
     }
-    let (stiffness, _) = super::catalog::slewing::spring_scales(test.reference.as_slewing()?);
-    let last_time = super::spring::record_end(data).filter(|_| stiffness > 0.0)?;
-    let rate = plant::ParamId::StiffnessRate.name();
+    let last_time = super::spring::record_end(data)?;
     let mut from = candidate.model.clone()?;
-    from.add_effect(
-        plant::Effect::CubicStiffness { coefficient: 0.0, linear: None, quintic: None, rate: Some(0.0) }
-            .into(),
-    )
-    .ok()?;
-    from.set_bounds(&rate, super::spring::symmetric(stiffness / last_time)).ok()?;
+    let (rate, range, on_structure) = match &trial.effect {
+        models::ModelEffect::Structure(structure::Effect::DryFriction { coordinate, .. }) => {
+            let scales = super::catalog::structure::scales(test.reference.as_structure()?)
+                .into_iter()
+                .find(|s| s.coordinate == *coordinate)?;
+            from.add_effect(
+                structure::Effect::CubicStiffness {
+                    coordinate: coordinate.clone(),
+                    coefficient: 0.0,
+                    quadratic: None,
+                    quintic: None,
+                    rate: Some(0.0),
+                }
+                .into(),
+            )
+            .ok()?;
+            (format!("stiffness_rate_{coordinate}"), 0.5 * scales.k / last_time, true)
+        }
+        _ => {
+            let (stiffness, _) = super::catalog::slewing::spring_scales(test.reference.as_slewing()?);
+            from.add_effect(
+                plant::Effect::CubicStiffness {
+                    coefficient: 0.0,
+                    linear: None,
+                    quintic: None,
+                    rate: Some(0.0),
+                }
+                .into(),
+            )
+            .ok()?;
+            (plant::ParamId::StiffnessRate.name(), stiffness / last_time, false)
+        }
+    };
+    if range.is_nan() || range <= 0.0 {
+        return None;
+    }
+    from.set_bounds(&rate, super::spring::symmetric(range)).ok()?;
     let refit = |model: &models::Model, free: &[String]| {
         run::refit_to(model, data, free, None, 60, run::Precision::Optimum).ok()
     };
@@ -128,10 +172,15 @@ pub(super) fn fading(candidate: &Candidate, test: &FormTest) -> Option<SpringTer
     let (value, std_error) = (outcome.report.parameters[i], outcome.report.std_error(i));
     let added = gain(&outcome) - gain(&as_named);
     let resolved = std_error.is_some_and(|se| value.abs() >= super::spring::WALD_Z * se);
+    let demanded = if on_structure {
+        added >= threshold.max(candidate.evidence.in_sample)
+    } else {
+        value < 0.0 && (added >= threshold || resolved)
+    };
     Some(SpringTerm {
         parameter: EffectParameter { name: rate.clone(), value, std_error },
         gain: added,
         symmetric_gain: 0.0,
-        demanded: value < 0.0 && (added >= threshold || resolved) && mismatch::determined(&outcome, &rate),
+        demanded: demanded && mismatch::determined(&outcome, &rate),
     })
 }

@@ -23,6 +23,10 @@
 //!    cubic stiffness removes at least half of it too ([`MIN_SPRING_STRUCTURE_EXPLAINED`]):
 //!    within one record's amplitudes the cubic is the leading term of any smooth symmetric
 //!    spring;
+//!    - and no candidate set aside by 5 or 6 as a stand-in beats it on both counts, predicting
+//!      the held-out blocks better by the threshold and removing at least as large a share of
+//!      the structure ([`Verdict::Outpredicted`]): what is missing is then accounted for better
+//!      than by the chosen effect, and what accounts for it better only stands in for it;
 //! 7. it gains more in sample, by at least [`RIVAL_MARGIN`] = 1 nat (2 ln B ≥ 2, the lower
 //!    edge of "positive" evidence on the Kass–Raftery scale), than each of the model's own
 //!    parameters not refitted (for the slewing rig also the beam's length and the hub's
@@ -64,7 +68,10 @@
 //! errors from zero, the friction stands in for a motor whose torque constant fades as it warms
 //! (outside the catalog), which also takes torque away as the record goes on: its verdict is
 //! [`Verdict::TimeVarying`] and nothing is named. (True dry frictions that settle act on the
-//! rate the other way, as a stiffness that grows as the motion dies.)
+//! rate the other way, as a stiffness that grows as the motion dies.) On a structure a named
+//! friction is set against a stiffness at its coordinate that changes with time, −k₁′·t·q_c:
+//! where k₁′, determined, gains more beside the friction than the friction itself gained (and
+//! the threshold), the friction stands in for a storey that degrades.
 //!
 //! A named dry friction on the slewing rig is then refitted with a static peak beside it,
 //! τ = −(F_c + ΔF e^{−(θ̇/v_st)²}) tanh(θ̇/v_s) (Stribeck; Armstrong-Hélouvry, Dupont & Canudas de
@@ -265,6 +272,11 @@ pub fn diagnose_observed(
     let chosen = (|| {
         let i = choose(&candidates, options.threshold)?;
         candidates[i].verdict = Verdict::Named;
+        // The named effect must predict what is missing at least as well as any stand-in does.
+        if named::outpredicted_by(&candidates, i, options.threshold).is_some() {
+            candidates[i].verdict = Verdict::Outpredicted;
+            return None;
+        }
         let Some(trial) = trials.get(i) else { return Some(i) };
         polish(&mut candidates[i], trial, &reference_free, &data);
         if let (EffectKind::SensorScale, Some(output), Some(fitted)) =
@@ -320,7 +332,7 @@ pub fn diagnose_observed(
         static_peak = friction::static_peak(&mut candidates[i], trial, &test);
         // And, in that form, does a servo that loses stiffness with time explain it (a torque
         // constant that fades, outside the catalog)?
-        fading = friction::fading(&candidates[i], &test);
+        fading = friction::fading(&candidates[i], trial, &test);
         if fading.as_ref().is_some_and(|t| t.demanded) {
             candidates[i].verdict = Verdict::TimeVarying;
             return None;

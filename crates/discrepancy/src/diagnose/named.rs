@@ -174,6 +174,40 @@ pub(super) fn not_told_apart(candidates: &[Candidate], threshold: f64) -> Vec<us
         .collect()
 }
 
+/// The candidate set aside as a stand-in ([`Verdict::Superficial`] or
+/// [`Verdict::LeavesItsOutput`]: it predicts, but leaves too much of the residual's structure
+/// for its kind) that beats the chosen one on both counts — it predicts the held-out blocks
+/// better by at least `threshold` and removes at least as large a share of the residual's
+/// structure — the best predictor among such, if any. The chosen effect is then not the best
+/// account of what is missing by any measure the diagnosis has, and what accounts for more only
+/// stands in for it: the physics is outside the catalog, and naming the chosen one would name a
+/// lesser stand-in. (A one-sided stop read by accelerometers was named a dry friction at 228–1,054
+/// nats held out, removing 10–16 % of the structure, while a symmetric spring set aside
+/// predicted 1,005–1,319 and removed 23–31 %.) A stand-in that predicts better but explains less
+/// of the structure does not unseat it: an excited appendage's mode (250 nats, 58 % of the
+/// structure) stays named beside a sensor scale that takes up the appendage's added mass (317
+/// nats, 5 %). A lattice is a measurement fact, scored by its own likelihood, and is neither
+/// tested nor set against.
+pub(super) fn outpredicted_by(candidates: &[Candidate], chosen: usize, threshold: f64) -> Option<usize> {
+    let lead = candidates[chosen].evidence.held_out?;
+    let structure = candidates[chosen].evidence.structure_explained;
+    if candidates[chosen].kind == EffectKind::SensorQuantization {
+        return None;
+    }
+    candidates
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| {
+            matches!(c.verdict, Verdict::Superficial | Verdict::LeavesItsOutput)
+                && c.kind != EffectKind::SensorQuantization
+                && c.evidence.structure_explained >= structure
+        })
+        .filter_map(|(j, c)| c.evidence.held_out.map(|h| (j, h)))
+        .filter(|&(_, h)| h - lead >= threshold)
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(j, _)| j)
+}
+
 /// The broader name of an effect that makes a further claim: a voltage limit is a saturation
 /// of the amplifier that says, in addition, which quantity it limits (the output voltage, so
 /// that the back-EMF still acts beyond it). `amplifier_saturation` names the amplifier's
@@ -314,5 +348,39 @@ mod tests {
         // A current limit ahead is named as before, and a narrower name is never put for it.
         let ahead = passing(EffectKind::AmplifierSaturation, 960.0, -2003.0, 160.0);
         assert_eq!(choose(&[voltage, ahead], 10.0), Some(1));
+    }
+    /// A stand-in unseats the chosen effect only when it beats it on both counts: held out by
+    /// the threshold and in the share of the residual's structure it removes (the numbers of the
+    /// stop read by accelerometers, and of the excited roof appendage beside a sensor scale).
+    #[test]
+    fn a_stand_in_unseats_the_chosen_effect_only_by_predicting_and_explaining_more() {
+        let with = |mut c: Candidate, verdict: Verdict, structure: f64| {
+            c.verdict = verdict;
+            c.evidence.structure_explained = structure;
+            c
+        };
+        let friction =
+            with(passing(EffectKind::CoulombFriction, 1054.4, -2000.0, 17.3), Verdict::Named, 0.16);
+        let spring =
+            with(passing(EffectKind::CubicStiffness, 1256.9, -3000.0, 44.8), Verdict::Superficial, 0.233);
+        assert_eq!(outpredicted_by(&[friction.clone(), spring.clone()], 0, 10.0), Some(1));
+        // Within the threshold held out: not told apart, no unseating.
+        let close =
+            with(passing(EffectKind::CubicStiffness, 1060.0, -3000.0, 44.8), Verdict::Superficial, 0.3);
+        assert_eq!(outpredicted_by(&[friction.clone(), close], 0, 10.0), None);
+        // Predicting better but explaining less of the structure: no unseating.
+        let mode = with(passing(EffectKind::UnmodeledMode, 250.1, -475.8, 12.3), Verdict::Named, 0.579);
+        let scale = with(passing(EffectKind::SensorScale, 317.2, -455.6, 22.7), Verdict::Superficial, 0.053);
+        assert_eq!(outpredicted_by(&[mode, scale], 0, 10.0), None);
+        // Only candidates set aside as stand-ins count: one outscored, not predictive or weak does not.
+        for verdict in [Verdict::Outscored, Verdict::NotPredictive, Verdict::Weak] {
+            let other = with(spring.clone(), verdict, 0.233);
+            assert_eq!(outpredicted_by(&[friction.clone(), other], 0, 10.0), None);
+        }
+        let leaves = with(spring, Verdict::LeavesItsOutput, 0.233);
+        assert_eq!(outpredicted_by(&[friction.clone(), leaves.clone()], 0, 10.0), Some(1));
+        // A lattice is neither tested nor set against.
+        let lattice = with(passing(EffectKind::SensorQuantization, 0.0, -9000.0, 50.0), Verdict::Named, 0.0);
+        assert_eq!(outpredicted_by(&[lattice, leaves], 0, 10.0), None);
     }
 }

@@ -218,7 +218,10 @@ impl Diagnosis {
                 let unseated = self.candidates.iter().find(|c| {
                     matches!(
                         c.verdict,
-                        Verdict::MatchedByMismatch | Verdict::Asymmetric | Verdict::TimeVarying
+                        Verdict::MatchedByMismatch
+                            | Verdict::Asymmetric
+                            | Verdict::TimeVarying
+                            | Verdict::Outpredicted
                     )
                 });
                 if let Some(best) =
@@ -286,12 +289,42 @@ impl Diagnosis {
                                     if one { "it" } else { "them" }
                                 )
                             }
+                            Verdict::Outpredicted => {
+                                let chosen = self.candidates.iter().position(|c| std::ptr::eq(c, best));
+                                match chosen.and_then(|i| super::named::outpredicted_by(&self.candidates, i, self.threshold)) {
+                                    Some(j) => {
+                                        let stand_in = &self.candidates[j];
+                                        format!(
+                                            "predictive on held-out blocks ({:.1} nats, {:.0} % of the residual's \
+                                             structure removed), but {}, set aside as a stand-in, predicts them better \
+                                             ({:.1} nats) and removes more of the structure ({:.0} %): what is missing \
+                                             is accounted for better than by {}, and what accounts for it better only \
+                                             stands in for it — physics outside the catalog",
+                                            best.evidence.held_out.unwrap_or(0.0),
+                                            100.0 * best.evidence.structure_explained.max(0.0),
+                                            stand_in.label,
+                                            stand_in.evidence.held_out.unwrap_or(0.0),
+                                            100.0 * stand_in.evidence.structure_explained.max(0.0),
+                                            best.label
+                                        )
+                                    }
+                                    None => format!("{:?}", best.verdict),
+                                }
+                            }
                             Verdict::TimeVarying if best.kind == plant::EffectKind::CoulombFriction => {
+                                // The rig's servo, or a structure's storey.
+                                let (change, physics) = if self.reference.fitted.as_structure().is_some() {
+                                    (
+                                        "a stiffness that changes with time",
+                                        "a storey that degrades or a joint that loosens during the record",
+                                    )
+                                } else {
+                                    ("the servo's stiffness falls with time", "a motor whose torque constant fades as it warms")
+                                };
                                 match &self.fading {
                                     Some(term) => format!(
-                                        "predictive on held-out blocks ({:.1} nats in sample), but beside it the \
-                                         servo's stiffness falls with time: `{}` = {:.4e}{} adds {:.1} nats — a motor \
-                                         whose torque constant fades as it warms, outside the catalog, for which a \
+                                        "predictive on held-out blocks ({:.1} nats in sample), but beside it {change}: \
+                                         `{}` = {:.4e}{} adds {:.1} nats — {physics}, outside the catalog, for which a \
                                          constant friction only stands in",
                                         best.evidence.in_sample,
                                         term.parameter.name,
