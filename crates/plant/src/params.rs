@@ -128,7 +128,7 @@ pub enum ParamId {
     StribeckVelocity,
 }
 
-/// The shortest transport delay or channel lag a model accepts [s].
+/// The shortest transport delay or channel lag a model accepts \[s\].
 ///
 /// A delay τ enters A through its Padé state with entries of order 1/τ; below about 10⁻⁹ s the
 /// exponential of so stiff an A no longer keeps the other states' accuracy (at 10⁻³⁰⁰ s the strain
