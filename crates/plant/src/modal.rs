@@ -51,8 +51,8 @@ pub struct RawMode {
     pub damping_ratio: f64,
     /// s = (re, im), im ≥ 0.
     pub eigenvalue: (f64, f64),
-    /// |v_i| for the first `n_dof` entries of the eigenvector (the displacements for A in
-    /// [q; q̇] form).
+    /// |v_i| for the first `n_dof` entries of the unit eigenvector (the displacements for A in
+    /// [q; q̇] form): the head of `magnitudes`.
     pub displacement: Vec<f64>,
     /// |v_i| for every entry of the unit eigenvector.
     pub magnitudes: Vec<f64>,
@@ -74,16 +74,17 @@ pub fn modes_of(a: &Mat<f64>, n_dof: usize) -> Result<Vec<RawMode>, PlantError> 
             continue;
         }
         let modulus = (ev.re * ev.re + ev.im * ev.im).sqrt();
+        let magnitudes: Vec<f64> = {
+            let m: Vec<f64> = (0..a.nrows()).map(|i| u[(i, k)].re.hypot(u[(i, k)].im)).collect();
+            let norm = m.iter().map(|v| v * v).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
+            m.into_iter().map(|v| v / norm).collect()
+        };
         rows.push(RawMode {
             frequency_hz: modulus / (2.0 * std::f64::consts::PI),
             damping_ratio: if modulus > 0.0 { -ev.re / modulus } else { 1.0 },
             eigenvalue: (ev.re, ev.im),
-            displacement: (0..n_dof).map(|i| (u[(i, k)].re.powi(2) + u[(i, k)].im.powi(2)).sqrt()).collect(),
-            magnitudes: {
-                let m: Vec<f64> = (0..a.nrows()).map(|i| u[(i, k)].re.hypot(u[(i, k)].im)).collect();
-                let norm = m.iter().map(|v| v * v).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
-                m.into_iter().map(|v| v / norm).collect()
-            },
+            displacement: magnitudes[..n_dof].to_vec(),
+            magnitudes,
         });
     }
     rows.sort_by(|x, y| x.frequency_hz.total_cmp(&y.frequency_hz));
@@ -106,11 +107,11 @@ impl SlewingModel {
         let ss = self.state_space()?;
         let layout = self.layout();
         let n_dof = layout.n_dof;
-        // The lag states are the last ones (Layout::of); the loop's states lead.
-        let n_loop = layout.n_states - layout.lags.iter().flatten().count();
-        let a = ss.a.subrows(0, n_loop).subcols(0, n_loop).to_owned();
+        // The loop's states: every state but the lags', wherever the layout put them.
+        let kept: Vec<usize> = (0..layout.n_states).filter(|i| !layout.lags.contains(&Some(*i))).collect();
+        let a = Mat::from_fn(kept.len(), kept.len(), |i, j| ss.a[(kept[i], kept[j])]);
         let rows = modes_of(&a, n_dof)?;
-        let delay = layout.delay.and_then(|w| {
+        let delay = layout.delay.and_then(|d| kept.iter().position(|&i| i == d)).and_then(|w| {
             rows.iter()
                 .enumerate()
                 .max_by(|x, y| x.1.magnitudes[w].total_cmp(&y.1.magnitudes[w]))
