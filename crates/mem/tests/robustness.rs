@@ -680,3 +680,58 @@ fn a_parameter_the_step_would_push_through_its_bound_is_held_not_projected() {
         assert!((got / want - 1.0).abs() < 1e-6, "{got} against {want}");
     }
 }
+
+/// The oscillator with a third parameter the outputs do not depend on.
+struct OscillatorWithInert;
+impl LinearModel for OscillatorWithInert {
+    type Error = std::convert::Infallible;
+    fn n_states(&self) -> usize {
+        2
+    }
+    fn n_params(&self) -> usize {
+        3
+    }
+    fn output_names(&self) -> Vec<String> {
+        Oscillator.output_names()
+    }
+    fn linearize(&self, p: &[f64]) -> Result<Linearized, Self::Error> {
+        let mut full = Oscillator.linearize(&p[..2])?;
+        full.da.push(Mat::zeros(2, 2));
+        Ok(full)
+    }
+}
+
+/// A parameter resting on its bound that the data do not determine gets no interval, as the
+/// rank-deficiency warning says, not a one-sided one from the bound to infinity, and no warning
+/// that the data pull it beyond the bound. (Its finite differences, one-sided at the bound, are
+/// pure rounding: the derivative check must not call that a mismatch.)
+#[test]
+fn a_parameter_on_its_bound_that_the_data_do_not_determine_gets_no_interval() {
+    let model = LinearResponse(OscillatorWithInert);
+    let data = add_noise(&simulate_measurement(&model, &[0.2, 4.0, 1.0], 0.05, 400, 0.0, 0), 0.01, 9);
+    let params = vec![
+        Parameter::new("c", 0.25).with_bounds(0.01, 1.0),
+        Parameter::new("k", 3.5).with_bounds(0.1, 100.0),
+        Parameter::new("inert", 1.0).with_bounds(1.0, 2.0),
+    ];
+    let report =
+        Fit::new().run(&Problem::new(vec![Experiment::new(&model, &data)], params).unwrap()).unwrap();
+    assert_eq!(report.parameters[2], 1.0, "{report}");
+    assert!(
+        report.warnings().iter().any(
+            |w| matches!(w, Warning::RankDeficient { parameters, .. } if parameters == &["inert".to_string()])
+        ),
+        "inert must be named undetermined: {report}"
+    );
+    assert_eq!(report.on_bound[2], Some(Side::Lower), "it does rest on its bound");
+    assert!(
+        !report.warnings().iter().any(|w| matches!(w, Warning::ActiveBound { .. })),
+        "no data pull it beyond its bound: {report}"
+    );
+    assert_eq!(report.std_error(2), None);
+    assert_eq!(report.statistics.intervals[2], Interval::Undetermined, "{report}");
+    assert!(report.to_string().contains("none: not determined by the data"), "{report}");
+    for i in 0..2 {
+        assert!(matches!(report.statistics.intervals[i], Interval::Symmetric { .. }), "{report}");
+    }
+}

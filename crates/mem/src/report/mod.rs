@@ -307,7 +307,9 @@ pub(crate) fn finish(
             ratio: c.ratio,
         });
     }
-    for (i, side) in on_bound.iter().enumerate() {
+    // An undetermined parameter resting on a bound is not held there by the data (the
+    // rank-deficiency warning says what it is).
+    for (i, side) in on_bound.iter().enumerate().filter(|&(i, _)| !undetermined[i]) {
         if let Some(side) = side {
             warnings.push(Warning::ActiveBound {
                 parameter: names[i].clone(),

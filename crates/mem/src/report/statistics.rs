@@ -7,8 +7,8 @@
 //!   is σ̂²(SᵀS)⁺. σ_s² = ‖r_s‖²/n_s·m/(m − rank) (the degrees of freedom shared out), ρ_s the
 //!   series' lag-one autocorrelation. Ω g is applied in O(n) by a forward and a backward pass.
 //! * **Intervals**: P ± t_{0.975, m−rank}·σ for a determined parameter; **none** for a
-//!   parameter in an undetermined combination (its standard error is infinite: `None`); for a
-//!   parameter held on a bound, a **one-sided** 95 % profile-likelihood interval from the bound
+//!   parameter in an undetermined combination (its standard error is infinite: `None`), also
+//!   when it rests on a bound; for a determined parameter held on a bound, a **one-sided** 95 % profile-likelihood interval from the bound
 //!   into the box, from the linearised profile Δ(d) = −2g d + e d² (g = s_iᵀr, e = ‖(I − H)s_i‖²,
 //!   H the projection on the other free columns) against σ̂²·χ²₁(0.90) = σ̂²·2.706 (the boundary
 //!   case's ½χ²₀ + ½χ²₁ law).
@@ -219,11 +219,16 @@ pub(crate) fn analyse(
     let mut std_errors = Vec::with_capacity(j);
     let mut intervals = Vec::with_capacity(j);
     for i in 0..j {
-        if let Some(side) = on_bound[i] {
+        if undetermined[i] {
+            // Also on a bound: the profile is flat along the combination, so a one-sided
+            // interval would run from the bound to wherever the box ends.
+            std_errors.push(None);
+            intervals.push(Interval::Undetermined);
+        } else if let Some(side) = on_bound[i] {
             std_errors.push(None);
             let others: Vec<usize> = free.iter().copied().filter(|&l| l != i).collect();
             intervals.push(one_sided(last, &others, i, side, p[i], variance, fit.rank_cutoff)?);
-        } else if undetermined[i] || !covariance[(i, i)].is_finite() {
+        } else if !covariance[(i, i)].is_finite() {
             std_errors.push(None);
             intervals.push(Interval::Undetermined);
         } else {
