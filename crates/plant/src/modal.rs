@@ -7,6 +7,7 @@ use serde::Serialize;
 /// What a closed-loop mode mostly moves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum ModeKind {
     /// The servo (hub) mode: hub rotation against the position loop.
     Servo,
