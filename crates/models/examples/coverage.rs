@@ -18,12 +18,13 @@
 //! | building, accelerations | a1, a2, a3 (C depends on P) | k1, k2, k3, α, β | white |
 //! | building, α near its bound 0 | q1, q3, truth α = 0.002 | k1, k2, k3, α ≥ 0, β | white |
 //! | slewing, coloured noise | as the first | cv, kp | AR(1), ρ = 0.8 |
+//! | building, forced | a chirp and a random force on floor 1, a1..a3, both records in one fit | k1, k2, k3, α, β | white, outputs only (the force is known) |
 //!
 //! Writes a markdown table to stdout (docs/fitting.md holds the measured one).
 
 use faer::Mat;
 use mem::{Exact, Experiment, Fit, Interval, LinearModel, LinearResponse, Measurement, Parameter, Problem};
-use models::SlewingFitModel;
+use models::{SlewingFitModel, StructureFitModel};
 use plant::SlewingModel;
 use rand::{Rng, SeedableRng};
 use rand_distr::StandardNormal;
@@ -56,7 +57,8 @@ fn rk4(lin: &mem::Linearized, h: f64, samples: usize, sub: usize) -> Mat<f64> {
     y
 }
 
-/// The clean record plus noise: white (ρ = 0) or AR(1), stationary, σ = 1 % of each output's RMS.
+/// The clean record plus noise on its outputs (a measured input stays as it is): white (ρ = 0)
+/// or AR(1), stationary, σ = 1 % of each output's RMS.
 fn noisy(clean: &Measurement, rho: f64, seed: u64) -> Measurement {
     let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
     let (k, p) = (clean.n_samples(), clean.n_outputs());
@@ -72,7 +74,7 @@ fn noisy(clean: &Measurement, rho: f64, seed: u64) -> Measurement {
             values[(t, o)] += e;
         }
     }
-    Measurement::new(clean.names().to_vec(), clean.start(), clean.interval(), values).expect("finite")
+    clean.with_values(values).expect("finite")
 }
 
 fn read(path: &str) -> Measurement {
@@ -82,7 +84,8 @@ fn read(path: &str) -> Measurement {
 
 struct Case {
     name: &'static str,
-    clean: Measurement,
+    /// The clean records, one experiment each, fitted together.
+    clean: Vec<Measurement>,
     decimate: usize,
     rho: f64,
     model: Box<dyn mem::ResponseModel + Sync>,
@@ -110,11 +113,17 @@ fn run(case: &Case, realisations: usize) -> Tally {
         runs: 0,
     };
     for r in 0..realisations {
-        let data = noisy(&case.clean, case.rho, 1000 + r as u64);
-        let data = if case.decimate > 1 { data.decimate(case.decimate).expect("decimates") } else { data };
-        let problem =
-            Problem::new(vec![Experiment::normalized(case.model.as_ref(), &data)], case.parameters.clone())
-                .expect("valid problem");
+        let data: Vec<Measurement> = case
+            .clean
+            .iter()
+            .enumerate()
+            .map(|(e, clean)| {
+                let data = noisy(clean, case.rho, 1000 + r as u64 + 1_000_000 * e as u64);
+                if case.decimate > 1 { data.decimate(case.decimate).expect("decimates") } else { data }
+            })
+            .collect();
+        let experiments = data.iter().map(|d| Experiment::normalized(case.model.as_ref(), d)).collect();
+        let problem = Problem::new(experiments, case.parameters.clone()).expect("valid problem");
         let report = Fit::new().run(&problem).expect("the fit runs");
         t.runs += 1;
         if report.statistics.covariance_kind == mem::Covariance::Ar1 {
@@ -150,7 +159,7 @@ fn slewing_case(name: &'static str, rate: f64, decimate: usize, rho: f64) -> Cas
     let clean = Measurement::new(names, 0.0, h, rk4(&lin, h, samples, sub)).expect("finite");
     Case {
         name,
-        clean,
+        clean: vec![clean],
         decimate,
         rho,
         parameters: model.parameters(),
@@ -203,12 +212,20 @@ pub fn study(realisations: usize) -> Vec<Row> {
         let lin = model.linearize(&near_bound_truth).expect("assembles");
         Measurement::new(model.output_names(), 0.0, 0.005, rk4(&lin, 0.005, 2001, 50)).expect("finite")
     };
+    let forced = {
+        let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../");
+        let file = structure::StructureModel::load(std::path::Path::new(&format!(
+            "{root}fixtures/shear_building_forced.ron"
+        )))
+        .expect("the fixture loads");
+        StructureFitModel::new(file, &["k1", "k2", "k3", "alpha", "beta"]).expect("its parameters")
+    };
     let cases = vec![
         slewing_case("slewing θ, θ̇, strain at 12.8 Hz; cv, kp", 12.8, 1, 0.0),
         slewing_case("slewing at 128 Hz decimated by 10; cv, kp", 128.0, 10, 0.0),
         Case {
             name: "building, displacements q1, q3; k1..k3, α, β",
-            clean: read("fixtures/independent/clean/shear_building_measured.csv"),
+            clean: vec![read("fixtures/independent/clean/shear_building_measured.csv")],
             decimate: 1,
             rho: 0.0,
             model: Box::new(LinearResponse(Exact(ShearBuilding::displacements()))),
@@ -217,7 +234,7 @@ pub fn study(realisations: usize) -> Vec<Row> {
         },
         Case {
             name: "building, accelerations a1..a3; k1..k3, α, β",
-            clean: read("fixtures/independent/clean/shear_building_acc_measured.csv"),
+            clean: vec![read("fixtures/independent/clean/shear_building_acc_measured.csv")],
             decimate: 1,
             rho: 0.0,
             model: Box::new(LinearResponse(Exact(ShearBuilding::accelerations()))),
@@ -226,7 +243,7 @@ pub fn study(realisations: usize) -> Vec<Row> {
         },
         Case {
             name: "building, α = 0.002 near its bound α ≥ 0",
-            clean: near_bound_clean,
+            clean: vec![near_bound_clean],
             decimate: 1,
             rho: 0.0,
             model: Box::new(LinearResponse(Exact(ShearBuilding::displacements()))),
@@ -234,6 +251,22 @@ pub fn study(realisations: usize) -> Vec<Row> {
             truth: near_bound_truth.to_vec(),
         },
         slewing_case("slewing at 12.8 Hz, AR(1) noise ρ = 0.8", 12.8, 1, 0.8),
+        Case {
+            name: "building, forced: chirp and random force on floor 1, fitted together",
+            clean: ["chirp", "random"]
+                .iter()
+                .map(|r| {
+                    read(&format!("fixtures/independent/clean/shear_building_forced_{r}.csv"))
+                        .with_inputs(&["u"], mem::Hold::Zero)
+                        .expect("the record has u")
+                })
+                .collect(),
+            decimate: 1,
+            rho: 0.0,
+            model: Box::new(forced.clone().response()),
+            parameters: forced.parameters(),
+            truth: building_truth.clone(),
+        },
     ];
     let mut rows = Vec::new();
     for case in &cases {

@@ -1,13 +1,13 @@
 //! The coverage study (examples/coverage.rs) as a test: every nominal 95 % interval covers its
 //! truth in 92–98 % of 1,000 seeded realisations wherever the white-noise model holds, and the
 //! coloured-noise case is reported (the AR(1) covariance is chosen, coverage at least 90 %).
-//! Long (about 25 s in release): `cargo test --release -p models -- --ignored`.
+//! Long (about a minute in release): `cargo test --release -p models -- --ignored`.
 
 #[path = "../examples/coverage.rs"]
 mod coverage;
 
 #[test]
-#[ignore = "a 6,000-fit statistical study; run with --ignored"]
+#[ignore = "a 7,000-fit statistical study; run with --ignored"]
 fn coverage_meets_the_nominal_rate() {
     for row in coverage::study(1000) {
         println!("{row:?}");
