@@ -284,7 +284,7 @@ pub fn first_order<D: Scalar>(c: &Constants<D>, so: &SecondOrder<D>) -> Result<F
     for e in &c.effects {
         if let Effect::SensorLag { sensor, lag } = e {
             let w = layout.lags[sensor.index()].expect("the layout has a lag state for each SensorLag");
-            let y = crate::sensors::reading(c, so, &layout, *sensor);
+            let y = reading(c, so, &layout, *sensor);
             for j in 0..n {
                 a[(w, j)] = D::from(4.0) * y[j] / *lag;
             }
@@ -292,4 +292,33 @@ pub fn first_order<D: Scalar>(c: &Constants<D>, so: &SecondOrder<D>) -> Result<F
         }
     }
     Ok(FirstOrder { a, servo_input, hub_input, layout })
+}
+
+/// The sensor's undelayed reading y = c·x as a row over the state (`layout.n_states` long):
+/// the potentiometer's hub angle, the tachometer's rate (the motor's with backlash unless the
+/// file says otherwise), the strain gauge's root strain from the mode shapes.
+pub fn reading<D: Scalar>(c: &Constants<D>, so: &SecondOrder<D>, layout: &Layout, sensor: Sensor) -> Vec<D> {
+    let size = layout.n_dof;
+    let mut row = vec![D::from(0.0); layout.n_states];
+    match sensor {
+        Sensor::Potentiometer => row[0] = D::from(1.0),
+        Sensor::Tachometer => {
+            // With backlash the tachometer sits on the motor's shaft unless the file says otherwise.
+            let tachometer = layout
+                .motor
+                .filter(|_| {
+                    c.effects
+                        .iter()
+                        .any(|e| matches!(e, crate::Effect::Backlash { tachometer_on_motor: true, .. }))
+                })
+                .unwrap_or(0);
+            row[size + tachometer] = D::from(1.0);
+        }
+        Sensor::StrainGauge => {
+            for (i, mode) in so.modes.iter().enumerate() {
+                row[i + 1] = c.thickness * D::from(0.5e6) * mode.root_curvature;
+            }
+        }
+    }
+    row
 }

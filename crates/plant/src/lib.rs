@@ -40,6 +40,7 @@ mod file;
 mod modal;
 mod model;
 pub mod nonlinear;
+mod output;
 mod params;
 mod sensors;
 

@@ -2,7 +2,8 @@
 
 use crate::assemble::{Layout, first_order, second_order};
 use crate::file::{ModelFile, locate};
-use crate::sensors::{Sensor, output_matrix};
+use crate::output::output_matrix;
+use crate::sensors::Sensor;
 use crate::{Constants, Effect, ParamId, PlantError};
 use faer::Mat;
 use nalgebra::DMatrix;

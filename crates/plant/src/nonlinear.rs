@@ -16,7 +16,8 @@
 //!   the motor's, so τ_c joins Δτ_s; the servo's back-EMF and its limits see the motor's rate.
 
 use crate::assemble::{FirstOrder, Layout, Scalar, first_order, second_order};
-use crate::sensors::{Sensor, output_matrix};
+use crate::output::output_matrix;
+use crate::sensors::Sensor;
 use crate::{Constants, Effect, PlantError};
 use nalgebra::{DMatrix, DVector};
 use num_dual::DualNum;

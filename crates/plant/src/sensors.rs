@@ -1,8 +1,5 @@
-//! The experiment's sensors and the output matrix C.
+//! The experiment's sensors (their rows of C are assembled in `assemble` and `output`).
 
-use crate::Constants;
-use crate::assemble::{Layout, Scalar, SecondOrder};
-use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
 /// A sensor of the slewing experiment (paper §IV).
@@ -51,52 +48,4 @@ impl Sensor {
             Sensor::StrainGauge => "µε",
         }
     }
-}
-
-/// The sensor's undelayed reading y = c·x as a row over the state (`layout.n_states` long):
-/// the potentiometer's hub angle, the tachometer's rate (the motor's with backlash unless the
-/// file says otherwise), the strain gauge's root strain from the mode shapes.
-pub fn reading<D: Scalar>(c: &Constants<D>, so: &SecondOrder<D>, layout: &Layout, sensor: Sensor) -> Vec<D> {
-    let size = layout.n_dof;
-    let mut row = vec![D::from(0.0); layout.n_states];
-    match sensor {
-        Sensor::Potentiometer => row[0] = D::from(1.0),
-        Sensor::Tachometer => {
-            // With backlash the tachometer sits on the motor's shaft unless the file says otherwise.
-            let tachometer = layout
-                .motor
-                .filter(|_| {
-                    c.effects
-                        .iter()
-                        .any(|e| matches!(e, crate::Effect::Backlash { tachometer_on_motor: true, .. }))
-                })
-                .unwrap_or(0);
-            row[size + tachometer] = D::from(1.0);
-        }
-        Sensor::StrainGauge => {
-            for (i, mode) in so.modes.iter().enumerate() {
-                row[i + 1] = c.thickness * D::from(0.5e6) * mode.root_curvature;
-            }
-        }
-    }
-    row
-}
-
-/// C (p × n_states): each sensor's [`reading`], or for a sensor read late
-/// ([`crate::Effect::SensorLag`]) −y + w_s, the Padé(1,1) of its delayed reading. The strain
-/// row depends on the mode shapes, hence on the parameters, so C is generic like A.
-pub fn output_matrix<D: Scalar>(c: &Constants<D>, so: &SecondOrder<D>, sensors: &[Sensor]) -> DMatrix<D> {
-    let layout = Layout::of(c);
-    let mut out = DMatrix::from_element(sensors.len(), layout.n_states, D::from(0.0));
-    for (row, sensor) in sensors.iter().enumerate() {
-        let y = reading(c, so, &layout, *sensor);
-        let lag = layout.lags[sensor.index()];
-        for (j, value) in y.into_iter().enumerate() {
-            out[(row, j)] = if lag.is_some() { -value } else { value };
-        }
-        if let Some(w) = lag {
-            out[(row, w)] = D::from(1.0);
-        }
-    }
-    out
 }
