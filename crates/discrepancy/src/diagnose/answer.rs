@@ -192,7 +192,8 @@ pub struct SpringTerm {
     /// In-sample gain of the symmetric quintic term k₅q_c⁵ beside the spring (nats).
     pub symmetric_gain: f64,
     /// Whether the data demand it: it is determined inside its range and gains at least the
-    /// held-out threshold, or lies 5 standard errors from zero (step 8 of
+    /// held-out threshold and a tenth of the spring's own gain, or lies 5 standard errors from
+    /// zero (step 8 of
     /// [module `diagnose`](mod@crate::diagnose)).
     pub demanded: bool,
 }

@@ -51,7 +51,8 @@
 //! 8. a symmetric spring (a structure's `cubic_stiffness` at coordinate c, or the slewing rig's
 //!    at the hub) is demanded neither to be asymmetric nor to change with time: refitted with
 //!    k₂q_c² or with k₁′·t·q_c beside its k₃q_c³ and a symmetric k₅q_c⁵, neither term is
-//!    determined while gaining the threshold in sample or lying 5 standard errors from zero
+//!    determined while gaining the threshold and a tenth of the spring's own gain in sample, or
+//!    lying 5 standard errors from zero
 //!    ([`SpringForm`], [`Verdict::Asymmetric`], [`Verdict::TimeVarying`], module `spring`; the
 //!    hub spring, whose free decay stays on one side of zero, for a loss of stiffness with time
 //!    only, the change a warming servo shows). A
