@@ -8,10 +8,10 @@
 //!   series' lag-one autocorrelation. Ω g is applied in O(n) by a forward and a backward pass.
 //! * **Intervals**: P ± t_{0.975, m−rank}·σ for a determined parameter; **none** for a
 //!   parameter in an undetermined combination (its standard error is infinite: `None`), also
-//!   when it rests on a bound; for a determined parameter held on a bound, a **one-sided** 95 % profile-likelihood interval from the bound
-//!   into the box, from the linearised profile Δ(d) = −2g d + e d² (g = s_iᵀr, e = ‖(I − H)s_i‖²,
-//!   H the projection on the other free columns) against σ̂²·χ²₁(0.90) = σ̂²·2.706 (the boundary
-//!   case's ½χ²₀ + ½χ²₁ law).
+//!   when it rests on a bound; for a determined parameter held on a bound, a **one-sided** 95 %
+//!   profile-likelihood interval from the bound into the box, from the linearised profile
+//!   Δ(d) = −2g d + e d² (g = s_iᵀr, e = ‖(I − H)s_i‖², H the projection on the other free
+//!   columns) against σ̂²·χ²₁(0.90) = σ̂²·2.706 (the boundary case's ½χ²₀ + ½χ²₁ law).
 //! * **Conditional standard errors**: σ²_i|H = Σ_ii − Σ_iH Σ_HH⁻¹ Σ_Hi, parameter i's variance
 //!   with the parameters H fixed at their estimates (a Schur complement; for independent errors,
 //!   to first order the variance a fit without H free would report; under the AR(1) sandwich
