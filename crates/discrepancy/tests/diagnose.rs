@@ -654,6 +654,27 @@ fn gravity_on_the_hub_is_no_strain_gauge_scale() {
     assert_eq!(scale.verdict, discrepancy::Verdict::LeavesItsOutput, "{:?}", d.answer());
 }
 
+/// A strong Stribeck friction of the blind development set (case A3_stribeck_strong_s2, outside
+/// the repository) read at 128 Hz instead of decimated: the friction gains about 13,000 nats,
+/// and a servo stiffness that falls with time beside it takes up under 2 nats of what its form
+/// leaves — at z 5.8, so the Wald rule alone would call the friction a torque fade. A fade must
+/// also gain a tenth of what the friction explains: the friction is named. Run with
+/// `cargo test --release -p discrepancy --test diagnose -- --ignored`.
+#[test]
+#[ignore = "needs ../shared/blind-dev"]
+fn a_strong_stribeck_friction_read_at_128_hz_is_not_called_a_fade() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/blind-dev");
+    let case = "A3_stribeck_strong_s2";
+    let text =
+        std::fs::read_to_string(root.join(format!("models/{case}.ron"))).expect("the blind set is there");
+    let model = SlewingModel::from_ron(&text, "case.ron").unwrap();
+    let data = mem::Measurement::read_csv(&root.join(format!("data/{case}.csv"))).unwrap();
+    let d = diagnose(&model.into(), &data, &DiagnoseOptions::new(&["cv", "kp"])).unwrap();
+    assert_eq!(d.effect(), "coulomb_friction", "{:?}", d.answer());
+    let fade = d.fading.as_ref().expect("the fade was tried");
+    assert!(!fade.demanded && fade.gain < d.threshold, "{fade:?}");
+}
+
 /// The blind development set (`../shared/blind-dev`, outside the repository; its README): the
 /// rules its scorer checks, through the library. Run with
 /// `cargo test --release -p discrepancy --test diagnose -- --ignored`.

@@ -70,7 +70,7 @@ pub(super) const WALD_Z: f64 = 5.0;
 /// the spring gaining 655 nats, k₁′ gained 10.6 (z 3.9, 1.6 % of the spring) and the limit was
 /// lost. Where the spring only stands in for a change with time, the term explains about as much
 /// as the spring: 285 of 301 nats on the fading torque constant of `slewing_torque_fade_light`.
-const FORM_SHARE: f64 = 0.1;
+pub(super) const FORM_SHARE: f64 = 0.1;
 
 /// The spring-form test of a named `cubic_stiffness` ([`SpringForm`]): a structure's, for
 /// asymmetry and change with time; the slewing rig's hub spring, for change with time. `None`
