@@ -111,12 +111,12 @@ pub(super) fn static_peak(candidate: &mut Candidate, trial: &Trial, test: &FormT
 /// [`super::spring::WALD_Z`] standard errors from zero, and gains at least a tenth of what the
 /// friction itself gains ([`super::spring::FORM_SHARE`]): a strong Stribeck friction read at
 /// 128 Hz, 13,063 nats in sample, let k₁′ take up 1.8 nats at z 5.8 from the misfit its form
-/// leaves, where the torque fades it stood for gave 114 and 912. On a structure it must gain more than
-/// the friction itself gained over the reference (and at least the threshold): the change is
-/// then the larger part of what is missing, and the friction at most a correction beside it. A
-/// strong true friction, 7,369 nats in sample, let k₁′ take up 84 nats (z 8.6) of the misfit its
-/// smooth sign leaves against another form; the degradations it stood for gave k₁′ 807 nats
-/// beside a friction of 44. Demanded, the friction is [`super::Verdict::TimeVarying`] and not
+/// leaves, where the torque fades it stood for gave 114 and 912. On a structure it must gain
+/// more than the friction itself gained over the reference (and at least the threshold): the
+/// change is then the larger part of what is missing, and the friction at most a correction
+/// beside it. A strong true friction, 7,369 nats in sample, let k₁′ take up 84 nats (z 8.6) of
+/// the misfit its smooth sign leaves against another form; the degradations it stood for gave
+/// k₁′ 807 nats beside a friction of 44. Demanded, the friction is [`super::Verdict::TimeVarying`] and not
 /// named. `None` for another candidate, or when a refit fails.
 pub(super) fn fading(candidate: &Candidate, trial: &Trial, test: &FormTest) -> Option<SpringTerm> {
     let FormTest { free, data, threshold, gain, .. } = *test;

@@ -66,9 +66,9 @@
 //! A named dry friction on the slewing rig is first set against a servo whose stiffness falls
 //! with time: refitted with −k₁′·t·θ at the hub beside it (the hub spring's rate, module
 //! `friction`), where k₁′ is a loss, determined, gains the threshold or lies 5 standard errors
-//! from zero, and gains a tenth of what the friction explains, the friction stands in for a motor whose torque constant fades as it warms
-//! (outside the catalog), which also takes torque away as the record goes on: its verdict is
-//! [`Verdict::TimeVarying`] and nothing is named. (True dry frictions that settle act on the
+//! from zero, and gains a tenth of what the friction explains, the friction stands in for a
+//! motor whose torque constant fades as it warms (outside the catalog), which also takes torque
+//! away as the record goes on: its verdict is [`Verdict::TimeVarying`] and nothing is named. (True dry frictions that settle act on the
 //! rate the other way, as a stiffness that grows as the motion dies.) On a structure a named
 //! friction is set against a stiffness at its coordinate that changes with time, −k₁′·t·q_c:
 //! where k₁′, determined, gains more beside the friction than the friction itself gained (and

@@ -30,9 +30,10 @@
 //! optimum once with k₂ and once with k₁′ beside both. A term's gain is the difference of
 //! in-sample log-likelihoods; it is demanded when it is determined and either gains at least the
 //! held-out threshold and a tenth of the spring's own gain ([`FORM_SHARE`]) beside the quintic,
-//! or is resolved from zero by [`WALD_Z`] standard errors. The quintic is the control: a spring whose form is not
-//! quite k₃q³ lets any one more term gain a little, which the symmetric refinement takes up
-//! first, so that what k₂ or k₁′ gain beside it is the asymmetry or the change with time.
+//! or is resolved from zero by [`WALD_Z`] standard errors. The quintic is the control: a spring
+//! whose form is not quite k₃q³ lets any one more term gain a little, which the symmetric
+//! refinement takes up first, so that what k₂ or k₁′ gain beside it is the asymmetry or the
+//! change with time.
 
 use super::answer::{SpringForm, SpringTerm};
 use super::catalog::Trial;
