@@ -20,6 +20,11 @@ usage: python3 studies/diagnose/conditions.py SET_DIR OUT_DIR
 * `ar1all`  coloured noise added to every sensor: AR(1) with ρ = 0.9 and a stationary standard
             deviation of 1 % of each column's RMS (the same stream as `noisytach`); decimated
             by 10.
+* `heavytail` heavy-tailed noise added to every sensor: Student's t with 3 degrees of freedom,
+            scaled to a standard deviation of 1 % of each column's RMS (the same stream);
+            decimated by 10.
+* `glitch`  an acquisition glitch: on each sensor, 3 single samples at random times read
+            a whole column RMS off (sign at random; the same stream); decimated by 10.
 
 Only the standard library.  OUT_DIR must not be inside the repository (the copies of a set
 that is not the project's must not be committed), must not overlap SET_DIR, and must not
@@ -84,6 +89,36 @@ def coloured(columns, level, rho):
     return edit
 
 
+def heavy(columns, level, dof):
+    """Adds Student's t noise (`dof` degrees of freedom, scaled to a standard deviation of
+    `level` times the column's RMS) to each of `columns`, drawn from `rng`."""
+    def edit(header, rows, rng):
+        scale = math.sqrt((dof - 2.0) / dof)
+        for column in columns:
+            i = column_of(header, column)
+            x = [float(r[i]) for r in rows]
+            s = level * rms(x) * scale
+            t = [rng.gauss(0.0, 1.0) / math.sqrt(rng.gammavariate(dof / 2.0, 2.0) / dof) for _ in x]
+            rows = [r[:i] + [repr(v + s * e)] + r[i + 1:] for r, v, e in zip(rows, x, t)]
+        return header, rows
+    return edit
+
+
+def glitches(columns, count, level):
+    """Moves `count` single readings of each of `columns`, at times drawn from `rng`, by `level`
+    times the column's RMS (sign at random)."""
+    def edit(header, rows, rng):
+        for column in columns:
+            i = column_of(header, column)
+            x = [float(r[i]) for r in rows]
+            s = level * rms(x)
+            for k in rng.sample(range(len(x)), count):
+                x[k] += s if rng.random() < 0.5 else -s
+            rows = [r[:i] + [repr(v)] + r[i + 1:] for r, v in zip(rows, x)]
+        return header, rows
+    return edit
+
+
 def as_is(text):
     return text
 
@@ -109,6 +144,8 @@ VARIANTS = {
     "noisytach": (["--decimate", "10"], noisier("theta_dot", 0.03), as_is),
     "nogauge": (["--decimate", "10"], without("strain"), reading(["Potentiometer", "Tachometer"])),
     "ar1all": (["--decimate", "10"], coloured(["theta", "theta_dot", "strain"], 0.01, 0.9), as_is),
+    "heavytail": (["--decimate", "10"], heavy(["theta", "theta_dot", "strain"], 0.01, 3.0), as_is),
+    "glitch": (["--decimate", "10"], glitches(["theta", "theta_dot", "strain"], 3, 1.0), as_is),
 }
 NOISE_SEED = 20261801
 

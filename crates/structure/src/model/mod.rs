@@ -1,13 +1,11 @@
-//! [`StructureModel`]: a validated model file, its compiled expressions and current values.
+//! [`StructureModel`]: a validated model file, its compiled expressions and current values; its
+//! linear state space (`linear.rs`), its text (`text.rs`) and its forces (`forces.rs`).
 
+use crate::StructureError;
 use crate::compile::{Checked, Ctx, compile};
-use crate::effects::{Effect, EffectKind};
-use crate::modes::{StructureMode, modes_of};
+use crate::effects::Effect;
 use crate::scan::Path;
-use crate::scan::{self, Tree};
 use crate::schema::{self, ModelFile};
-use crate::{StructureError, write};
-use mem::{Scalar, SecondOrder, StateSpace};
 
 /// A linear structure read from a model file: its parameters (with their current values), the
 /// compiled expressions of its matrices, its inputs and outputs.
@@ -298,189 +296,19 @@ impl StructureModel {
         }
     }
 
-    /// A, C, x(0), B, D at the parameter values `p` (all parameters, declaration order), for any
-    /// scalar: `f64` for values, a num-dual number seeded on some parameters for exact
-    /// derivatives. B and D are `None` for a model without inputs.
-    ///
-    /// # Errors
-    /// [`StructureError::ParameterCount`] if `p` has the wrong length;
-    /// [`StructureError::Assembly`] if the model cannot be formed at `p` (a singular mass matrix,
-    /// modal damping without positive definite M and K, a non-finite entry).
-    ///
-    /// With added effects, `p` holds their parameters too (after the file's, as in
-    /// [`parameter_names`](Self::parameter_names)) and an unmodeled mode's two states follow
-    /// the structure's; sensor effects and forces are not part of the linear model (see
-    /// [`crate::effects`]).
-    pub fn state_space<D: Scalar>(&self, p: &[D]) -> Result<StateSpace<D>, StructureError> {
-        self.assemble(p, false)
-    }
-
-    /// The linear model at `p` when it is linear for the parameters that move
-    /// ([`is_linear_for`](Self::is_linear_for)): [`state_space`](Self::state_space) with each
-    /// drag of exponent 1, c·v, in D at its coordinate (linear physics there, a force on the
-    /// nonlinear path).
-    ///
-    /// # Errors
-    /// As [`state_space`](Self::state_space).
-    pub fn linear_state_space<D: Scalar>(&self, p: &[D]) -> Result<StateSpace<D>, StructureError> {
-        self.assemble(p, true)
-    }
-
-    fn assemble<D: Scalar>(&self, p: &[D], linear_drag: bool) -> Result<StateSpace<D>, StructureError> {
-        let n_file = self.checked.params.len();
-        let expected = self.values.len() + self.effect_parameters().len();
-        if p.len() != expected {
-            return Err(StructureError::ParameterCount { expected, got: p.len() });
-        }
-        let dampers: Vec<(usize, D)> = if linear_drag {
-            self.effect_offsets()
-                .into_iter()
-                .filter_map(|(effect, start)| match effect {
-                    Effect::Drag { coordinate, .. } if p[start + 1].re() == 1.0 => {
-                        Some((self.coordinate_index(coordinate)?, p[start]))
-                    }
-                    _ => None,
-                })
-                .collect()
-        } else {
-            Vec::new()
-        };
-        let mut space = self.checked.compiled.state_space_damped(&p[..n_file], &dampers)?;
-        for (effect, start) in self.effect_offsets() {
-            if effect.kind() == EffectKind::UnmodeledMode {
-                crate::effects::append_mode(&mut space, &p[start..]);
-            }
-        }
-        Ok(space)
-    }
-
-    /// M, D, K and F (if there are inputs) at the parameter values `p`; `None` for a
-    /// first-order file.
-    ///
-    /// # Errors
-    /// As [`state_space`](Self::state_space).
-    pub fn second_order<D: Scalar>(&self, p: &[D]) -> Result<Option<SecondOrder<D>>, StructureError> {
-        let values = self.checked.compiled.values(&p[..self.checked.params.len().min(p.len())])?;
-        self.checked.compiled.second_order_at(&values)
-    }
-
     /// The index of a coordinate's displacement in the state (its velocity is at this index
     /// plus the number of coordinates), or of a first-order state; `None` for an unknown name.
     pub fn coordinate_index(&self, name: &str) -> Option<usize> {
         self.checked.coordinates.iter().position(|c| c == name)
     }
-
-    /// The modes at the current values: the eigenvalues of A, one per complex-conjugate pair
-    /// (λ with Im λ > 0) or real eigenvalue, sorted by undamped frequency |λ|/2π, with damping
-    /// ratio −Re λ/|λ| and, for a second-order file, the mode shape over the coordinates. With
-    /// proportional (e.g. Rayleigh or modal) damping |λ| = ω_n, the undamped natural frequency
-    /// of K φ = ω² M φ.
-    ///
-    /// # Errors
-    /// As [`state_space`](Self::state_space); [`StructureError::Eigen`] if the eigenvalues do
-    /// not converge.
-    pub fn modes(&self) -> Result<Vec<StructureMode>, StructureError> {
-        let space = self.checked.compiled.state_space::<f64>(&self.values)?;
-        modes_of(&space.a, self.is_second_order().then_some(space.a.nrows() / 2))
-    }
-
-    /// The model file with the current parameter values written in.
-    ///
-    /// The file's own text is kept — comments, layout, expressions — and only the `value:` of
-    /// each parameter whose value changed is rewritten (in Rust's shortest round-trip form).
-    /// Should the text not allow that, the file is written anew from its parsed content (same
-    /// model, without comments). Reading the result back gives the same model with the current
-    /// values, provided the model can be assembled at them (a file whose masses were set to zero,
-    /// say, is written but rejected when read).
-    pub fn to_ron(&self) -> String {
-        let file_values: Vec<f64> = self.checked.params.iter().map(|p| p.value).collect();
-        if self.effects != self.file.effects {
-            return self.rewritten();
-        }
-        if let Some(text) =
-            write::patch_values(&self.text, &Tree::parse(&self.text), &file_values, &self.values)
-            && self.reads_back(&text)
-        {
-            return text;
-        }
-        self.rewritten()
-    }
-
-    /// The file written anew from its parsed content with the current values (no comments).
-    fn rewritten(&self) -> String {
-        let mut file = self.file.clone();
-        for ((_, parameter), value) in file.parameters.0.iter_mut().zip(&self.values) {
-            parameter.value = *value;
-        }
-        file.effects = self.effects.clone();
-        schema::to_string(&file)
-    }
-
-    /// Whether `text` reads back as a model with the current values.
-    fn reads_back(&self, text: &str) -> bool {
-        StructureModel::from_ron(text, &self.origin)
-            .is_ok_and(|m| m.values().iter().zip(&self.values()).all(|(a, b)| a.to_bits() == b.to_bits()))
-    }
-
-    /// The file's text as read.
-    pub fn source(&self) -> &str {
-        &self.text
-    }
-}
-
-/// A RON error, located at the offending identifier for an unknown field or variant (RON
-/// reports the position after it).
-fn syntax_error(text: &str, origin: &str, e: &ron::error::SpannedError) -> StructureError {
-    let (mut line, mut column) = (e.position.line, e.position.col);
-    let ident = match &e.code {
-        ron::Error::NoSuchStructField { found, .. } | ron::Error::NoSuchEnumVariant { found, .. } => {
-            Some(found.as_str())
-        }
-        ron::Error::DuplicateStructField { field, .. } => Some(*field),
-        _ => None,
-    };
-    if let Some(at) =
-        ident.and_then(|ident| scan::ident_before(text, scan::offset_of(text, line, column), ident))
-    {
-        (line, column) = scan::line_column(text, at);
-    }
-    StructureError::Syntax { origin: origin.to_string(), line, column, message: e.code.to_string() }
-}
-
-impl mem::StateSpaceModel for StructureModel {
-    fn parameter_names(&self) -> Vec<String> {
-        StructureModel::parameter_names(self)
-    }
-    fn output_names(&self) -> Vec<String> {
-        StructureModel::output_names(self)
-    }
-    fn input_names(&self) -> Vec<String> {
-        StructureModel::input_names(self)
-    }
-    fn state_space<D: Scalar>(&self, p: &[D]) -> Result<StateSpace<D>, mem::BoxedError> {
-        // Sensor effects and forces are not linear state-space parts: fitting without them
-        // would be a silently wrong answer.
-        if let Some(e) = self.effects.iter().find(|e| !matches!(e.kind(), EffectKind::UnmodeledMode)) {
-            return Err(Box::new(StructureError::InvalidEffect {
-                reason: format!(
-                    "the model's {:?} is not part of its linear state space; fit it through models::Model",
-                    e.kind()
-                ),
-            }));
-        }
-        Ok(StructureModel::state_space(self, p)?)
-    }
-}
-
-/// Whether RON text is a structure model file (its top-level value has a `structure:` field)
-/// rather than a slewing-rig file. Comments and string contents are not mistaken for the field;
-/// the text need not be valid.
-pub fn is_structure_file(text: &str) -> bool {
-    crate::scan::has_top_level_field(text, "structure")
 }
 
 mod forces;
+mod linear;
+mod text;
 pub use forces::{ForceLaw, ForceParts};
+pub use text::is_structure_file;
+use text::syntax_error;
 
 #[cfg(test)]
 mod tests;
