@@ -5,7 +5,9 @@
 //! num-dual), which each Gauss–Newton iteration does once; and the building with a nonlinear
 //! spring at q1 simulated by the exponential integrator with its sensitivities, with and without
 //! a stiffness that changes with time (the force then reads the time as well); and a linear
-//! damper at q3 on the exact path against the exponential integrator's substeps.
+//! damper at q3 on the exact path against the exponential integrator's substeps; and the forced
+//! building (driven on floor 1, accelerations) with a cubic spring at q1, the integrator taking
+//! the measured force as a held input.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mem::{LinearModel, ResponseModel};
@@ -78,6 +80,23 @@ fn bench_structure(c: &mut Criterion) {
     });
     group.bench_function("respond/linear_damper_substeps", |b| {
         b.iter(|| stepped.respond(black_box(&p), &mem::Grid::free(0.005), &mut out).unwrap())
+    });
+    // The forced building with a cubic spring at q1, driven by the independent simulator's
+    // random force (2,001 samples at 200 Hz), the five parameters and the spring's free.
+    let forced = std::fs::read_to_string(fixture("shear_building_forced.ron")).unwrap();
+    let file = forced.trim_end().trim_end_matches(')').to_string()
+        + "    effects: [CubicStiffness(coordinate: \"q1\", coefficient: 1.03e12)],\n)\n";
+    let model = Model::from_ron(&file, "forced.ron").unwrap();
+    let record =
+        mem::Measurement::read_csv(&fixture("independent/effects/shear_forced_cubic_q1.csv")).unwrap();
+    let record = models::align(&model, &record).unwrap();
+    let free = ["k1", "k2", "k3", "alpha", "beta", "cubic_q1"];
+    let p: Vec<f64> = free.iter().map(|n| model.value(n).unwrap()).collect();
+    let response = model.response(&free).unwrap();
+    let grid = mem::Grid { start: 0.0, interval: record.interval(), inputs: record.inputs() };
+    let mut out = expm::Response::zeros(2001, 3, free.len());
+    group.bench_function("respond/forced_spring", |b| {
+        b.iter(|| response.respond(black_box(&p), &grid, &mut out).unwrap())
     });
     group.finish();
 }

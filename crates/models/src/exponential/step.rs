@@ -85,6 +85,11 @@ pub(crate) trait Forcing {
     /// f at time `t` (the model's, from x(0)) and state `x` into `out` (with ∂f/∂x and ∂f/∂P_i
     /// if `with_derivatives`; `out` is reused).
     fn at(&mut self, t: f64, x: &[f64], with_derivatives: bool, out: &mut Forces);
+
+    /// The sample interval [t_k, t_{k+1}] the next calls of [`at`](Self::at) fall in (`None`
+    /// before the first sample): a forcing driven by measured inputs holds them by it, so that
+    /// a step ending at t_{k+1} still sees the interval's u_k.
+    fn interval(&mut self, _k: Option<usize>) {}
 }
 
 /// Row-major small dense matrix.
@@ -335,6 +340,7 @@ pub(crate) fn integrate(
     let mut x = lin.x0.clone();
     let mut s: Vec<f64> = (0..j).flat_map(|i| d[i].x0.iter().copied()).collect();
     // From the model's t = 0 to the first sample: whole substeps, then the remainder.
+    forcing.interval(None);
     if start > 0.0 {
         let sub = h / substeps as f64;
         let whole = (start / sub).floor() as usize;
@@ -354,6 +360,7 @@ pub(crate) fn integrate(
     let mut feed = Forces::new(m, j);
     let mut du = vec![0.0; m];
     for sample in 0..k {
+        forcing.interval(Some(sample));
         if lin.h.is_some() {
             forcing.at(start + sample as f64 * h, &x, wanted, &mut feed);
         }

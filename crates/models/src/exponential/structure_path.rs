@@ -1,6 +1,13 @@
 //! A structure with forces at its coordinates (`structure::effects`) on the exponential
 //! integrator: A, G, C, H, x(0) and their exact derivatives from the file's expressions over
 //! num-dual, the forces' derivatives likewise.
+//!
+//! A structure driven by measured inputs u (a forced response) takes them as forces the state
+//! does not move: G = [G_f  B], H = [H_f  D], and u(t) held between samples as the record says.
+//! Held constant (zero-order hold), u is the same at both ends of every substep of an interval,
+//! where the first-order-hold gains sum to the zero-order-hold ones (Γ_now + Γ_next = Γ), so the
+//! linear part of a forced response is exact, as on the linear path; held linearly, the gains
+//! integrate the ramp exactly too. Before the first sample u = 0, as on the linear path.
 
 use super::DEFAULT_MAX_STEP;
 use super::step::{Forces, Forcing, Linear, integrate};
@@ -9,7 +16,7 @@ use crate::ode::NonlinearError;
 use expm::Response;
 use faer::Mat;
 use mem::nalgebra::DMatrix;
-use mem::{BoxedError, Grid, ResponseModel};
+use mem::{BoxedError, Grid, Hold, ResponseModel};
 use num_dual::Dual64;
 use structure::StructureModel;
 
@@ -26,9 +33,47 @@ fn mat<D: mem::Scalar>(m: &DMatrix<D>, part: impl Fn(&D) -> f64) -> Mat<f64> {
     Mat::from_fn(m.nrows(), m.ncols(), |r, c| part(&m[(r, c)]))
 }
 
-/// The forces of a structure and their derivatives.
+/// Measured inputs as the integrator reads them: u(t) in the sample interval it is in.
+struct InputFeed<'a> {
+    /// u_k, one row per sample of the model's grid.
+    values: &'a Mat<f64>,
+    hold: Hold,
+    /// t₀ and the sample interval h.
+    start: f64,
+    interval: f64,
+}
+
+impl InputFeed<'_> {
+    /// u(t) into `out` for `t` in the interval [t_k, t_{k+1}] (`k` = None before the first
+    /// sample, where u = 0). At t_{k+1} itself a held input is still u_k: the left limit, which
+    /// is what the step ending there integrates.
+    fn fill(&self, k: Option<usize>, t: f64, out: &mut [f64]) {
+        let Some(k) = k else {
+            out.fill(0.0);
+            return;
+        };
+        let last = self.values.nrows() - 1;
+        let k = k.min(last);
+        for (c, o) in out.iter_mut().enumerate() {
+            let now = self.values[(k, c)];
+            *o = match self.hold {
+                Hold::Zero => now,
+                Hold::FirstOrder => {
+                    let next = self.values[((k + 1).min(last), c)];
+                    let fraction = (t - (self.start + k as f64 * self.interval)) / self.interval;
+                    now + fraction * (next - now)
+                }
+            };
+        }
+    }
+}
+
+/// The forces of a structure and their derivatives; measured inputs, if any, follow the forces.
 struct StructureForces<'a> {
     laws: Vec<structure::ForceLaw>,
+    inputs: Option<InputFeed<'a>>,
+    /// The sample interval the integrator is in (None before the first sample).
+    current: Option<usize>,
     p: &'a [f64],
     lifted: Vec<Dual64>,
     free: &'a [usize],
@@ -39,11 +84,19 @@ struct StructureForces<'a> {
 }
 
 impl Forcing for StructureForces<'_> {
+    fn interval(&mut self, k: Option<usize>) {
+        self.current = k;
+    }
+
     fn at(&mut self, t: f64, x: &[f64], with_derivatives: bool, out: &mut Forces) {
-        let m = self.laws.len();
+        let forces = self.laws.len();
+        let m = forces + self.inputs.as_ref().map_or(0, |i| i.values.ncols());
         out.reset(m, self.free.len());
         for (v, law) in out.value.iter_mut().zip(&self.laws) {
             *v = law.force(t, x, self.p);
+        }
+        if let Some(inputs) = &self.inputs {
+            inputs.fill(self.current, t, &mut out.value[forces..]);
         }
         if !with_derivatives {
             return;
@@ -57,6 +110,8 @@ impl Forcing for StructureForces<'_> {
             for law in &self.laws {
                 out.by_state.push(law.force(t, &self.scratch, &self.lifted).eps);
             }
+            // The inputs do not depend on the state (nor on P: their entries stay zero).
+            out.by_state.resize(out.by_state.len() + (m - forces), 0.0);
             self.scratch[k].eps = 0.0;
         }
         for (i, &slot) in self.free.iter().enumerate().filter(|(i, _)| self.acts[*i]) {
@@ -96,20 +151,70 @@ impl StructureExponential {
         let forces = self.model.force_parts(p).map_err(failed)?.ok_or_else(|| {
             NonlinearError::Solver("the structure has no force effect; use its linear path".into())
         })?;
+        let (g, h) = (mat(&forces.g, part), mat(&forces.h, part));
+        // Measured inputs enter as forces the state does not move: [G_f B], [H_f D].
+        let (g, h) = match &space.b {
+            Some(b) => {
+                let b = mat(b, part);
+                let d = space.d.as_ref().map_or_else(|| Mat::zeros(h.nrows(), b.ncols()), |d| mat(d, part));
+                let side = |left: &Mat<f64>, right: &Mat<f64>| {
+                    Mat::from_fn(left.nrows(), left.ncols() + right.ncols(), |r, c| {
+                        if c < left.ncols() { left[(r, c)] } else { right[(r, c - left.ncols())] }
+                    })
+                };
+                (side(&g, &b), side(&h, &d))
+            }
+            None => (g, h),
+        };
         Ok(Linear {
             a: mat(&space.a, part),
-            g: mat(&forces.g, part),
+            g,
             c: mat(&space.c, part),
-            h: Some(mat(&forces.h, part)),
+            h: Some(h),
             x0: space.x0.iter().map(part).collect(),
         })
     }
 
-    /// Simulates at P (the free parameters' values): fills `out` at t_k = start + k·h.
+    /// Simulates the free decay at P (the free parameters' values): fills `out` at
+    /// t_k = start + k·h.
     ///
     /// # Errors
     /// Assembly failures, an invalid grid, or a response that does not stay finite.
     pub fn simulate(&self, p: &[f64], start: f64, h: f64, out: &mut Response) -> Result<(), NonlinearError> {
+        self.simulate_driven(p, start, h, None, out)
+    }
+
+    /// As [`simulate`](Self::simulate), driven by measured inputs u_k (one row per sample of
+    /// the grid, one column per input of the model, held as `hold` says; zero before t₀).
+    ///
+    /// # Errors
+    /// As [`simulate`](Self::simulate); inputs that do not match the model's or the grid.
+    pub fn simulate_driven(
+        &self,
+        p: &[f64],
+        start: f64,
+        h: f64,
+        inputs: Option<(&Mat<f64>, Hold)>,
+        out: &mut Response,
+    ) -> Result<(), NonlinearError> {
+        let wanted = self.model.input_names().len();
+        match inputs {
+            None if wanted > 0 => {
+                return Err(NonlinearError::Solver(format!(
+                    "the model is driven by {}; give the record's inputs",
+                    self.model.input_names().join(", ")
+                )));
+            }
+            Some((u, _)) if u.ncols() != wanted || u.nrows() != out.outputs.nrows() => {
+                return Err(NonlinearError::Solver(format!(
+                    "{} × {} inputs for a model of {wanted} inputs on {} samples",
+                    u.nrows(),
+                    u.ncols(),
+                    out.outputs.nrows()
+                )));
+            }
+            _ => {}
+        }
         let mut all = self.model.values();
         for (slot, value) in self.free.iter().zip(p) {
             all[*slot] = *value;
@@ -135,6 +240,8 @@ impl StructureExponential {
         states.dedup();
         let n = lin.a.nrows();
         let mut forces = StructureForces {
+            inputs: inputs.map(|(values, hold)| InputFeed { values, hold, start, interval: h }),
+            current: None,
             acts: self.free.iter().map(|&slot| laws.iter().any(|l| l.uses(slot))).collect(),
             laws,
             p: &all,
@@ -154,16 +261,12 @@ impl ResponseModel for StructureExponential {
     fn output_names(&self) -> Vec<String> {
         self.model.output_names()
     }
+    fn input_names(&self) -> Vec<String> {
+        self.model.input_names()
+    }
     fn respond(&self, p: &[f64], grid: &Grid<'_>, out: &mut Response) -> Result<(), BoxedError> {
-        if grid.inputs.is_some() {
-            return Err(NonlinearError::Solver(
-                "a structure with forces at its coordinates is simulated in free decay only; drop the inputs \
-                 or the force effects"
-                    .into(),
-            )
-            .into());
-        }
-        Ok(self.simulate(p, grid.start, grid.interval, out)?)
+        let inputs = grid.inputs.map(|i| (i.values(), i.hold()));
+        Ok(self.simulate_driven(p, grid.start, grid.interval, inputs, out)?)
     }
     fn respond_outputs(&self, p: &[f64], grid: &Grid<'_>, out: &mut Response) -> Result<(), BoxedError> {
         // As the slewing path: x alone, through the same Φ and force gains.
