@@ -273,8 +273,7 @@ impl ResponseModel for StructureExponential {
         self.respond(p, grid, out)
     }
     fn accuracy(&self) -> f64 {
-        // As the slewing path: exact sensitivities of the simulated recursion, O(h²) from the
-        // true flow in the nonlinear forcing.
-        1e-9
+        // As the slewing path: the exact sensitivities of a recursion smooth in P to rounding.
+        1e-12
     }
 }
