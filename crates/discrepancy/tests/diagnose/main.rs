@@ -59,8 +59,8 @@ fn held_out_case(name: &str, theta0: f64) -> discrepancy::Diagnosis {
     })
 }
 
+mod beyond_catalog;
 mod blind;
 mod mismatch;
 mod modes;
 mod named;
-mod set_aside;

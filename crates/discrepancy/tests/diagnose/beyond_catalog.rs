@@ -1,5 +1,6 @@
-//! Physics outside the catalog (cogging, a fading torque constant, crosstalk, gravity) is not given
-//! a catalog name, and a named effect is not set aside for it.
+//! Physics beyond the catalog (cogging, a fading torque constant, crosstalk, gravity) is not
+//! given a catalog name, and a named effect is not set aside for it. (Its module sorts first, so
+//! that its two long chains start early when the tests run in parallel.)
 
 use super::*;
 
