@@ -157,12 +157,7 @@ impl StructureExponential {
             Some(b) => {
                 let b = mat(b, part);
                 let d = space.d.as_ref().map_or_else(|| Mat::zeros(h.nrows(), b.ncols()), |d| mat(d, part));
-                let side = |left: &Mat<f64>, right: &Mat<f64>| {
-                    Mat::from_fn(left.nrows(), left.ncols() + right.ncols(), |r, c| {
-                        if c < left.ncols() { left[(r, c)] } else { right[(r, c - left.ncols())] }
-                    })
-                };
-                (side(&g, &b), side(&h, &d))
+                (faer::concat![[g, b]], faer::concat![[h, d]])
             }
             None => (g, h),
         };
