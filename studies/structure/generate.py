@@ -30,8 +30,22 @@ fixtures/shear_building_acc2.ron; the truth's draws are the same as without it, 
 the same buildings, effects and noise sequences read by other sensors. Sensor effects act on
 a1 or a3, at the same strengths relative to the column's noise.
 
+With --forced every case starts at rest (the appendage too) and is shaken by a measured force u [N]
+on floor 3 (F = [0, 0, 1]), held constant over each sample interval (zero-order hold: u[k] acts on
+[t_k, t_k+1)); the records are t,u,q1,q3, diagnosed with fixtures/shear_building_forced_q.ron. The
+input is, 50/50 per case, white Gaussian noise through a 4th-order Butterworth low-pass at 40 Hz or
+a linear chirp 1 -> 40 Hz over the record (random phase, 0.2 s cosine tapers at both ends), scaled
+so that the case's own linear building (its M, K, D, no effect) peaks at |q3| = 0.03 m. It is drawn
+from a generator of its own, seeded [the set's seed, case index], so the cases' draws from the set's
+generator are those without --forced (the same buildings, effects and noise sequences); the
+strengths' peaks (and the pounding's gap) are those of the linear forced response to the case's
+own input. --input-noise L adds white noise of L x RMS(u) to the recorded u only (the building
+feels the clean u). The truth records the input ("input": kind, rms of the applied u, noise).
+--check first compares the interval-by-interval integration with the exact discrete-time solution
+of the linear building (the matrix exponential), and stops unless --out is given too.
+
 usage:  python3 studies/structure/generate.py --out DIR --set dev|held [--seed N] [--more-c] [--more-degrading]
-                                              [--accelerations]
+                                              [--accelerations | --forced [--input-noise L]] [--check]
 """
 import argparse
 import json
@@ -40,6 +54,8 @@ import shutil
 
 import numpy as np
 from scipy.integrate import solve_ivp
+from scipy.linalg import expm
+from scipy.signal import butter, chirp, lfilter
 
 H, N = 0.005, 2001
 Q0 = np.array([0.01, 0.02, 0.03])
@@ -48,6 +64,9 @@ FREE = "k1,k2,k3,alpha,beta"
 # What the records measure: the displacements q1, q3 (columns 0, 2 of simulate's q, v, q''), or
 # with --accelerations the accelerations of floors 1 and 3 (columns 6, 8); set in main().
 MEASURED, COLUMNS, MODEL = [0, 2], ["q1", "q3"], "shear_building.ron"
+# --forced: the input's force on the floors (a shaker on the roof), and its scale (the peak |q3|
+# of the case's linear building driven by it) [m].
+F_IN, PEAK_Q3 = np.array([0.0, 0.0, 1.0]), 0.03
 
 
 def matrices(rng, mass2=1000.0, modal=None):
@@ -66,13 +85,17 @@ def matrices(rng, mass2=1000.0, modal=None):
     return M, K, D
 
 
-def simulate(M, K, D, force=None, extra=None):
-    """force(q, v, t) -> generalised force on the floors; extra: an appendage (j, m, f, zeta)."""
+def simulate(M, K, D, force=None, extra=None, u=None):
+    """force(q, v, t) -> generalised force on the floors; extra: an appendage (j, m, f, zeta);
+    u: None for the free decay from Q0, or (--forced) the force F_IN u[k] held over [t_k, t_k+1)
+    from rest."""
     Minv = np.linalg.inv(M)
 
-    def rhs(t, x):
+    def rhs(t, x, uk=None):  # uk: the held input (--forced)
         q, v = x[:3], x[3:6]
         f = -K @ q - D @ v
+        if uk is not None:
+            f = f + F_IN * uk
         if force is not None:
             f = f + force(q, v, t)
         out = np.zeros_like(x)
@@ -87,10 +110,20 @@ def simulate(M, K, D, force=None, extra=None):
         return out
 
     x0 = np.zeros(8 if extra is not None else 6)
+    t = np.arange(N) * H
+    if u is not None:  # at rest, then one integration per sample interval: u is constant inside each
+        x = np.empty((N, len(x0)))
+        x[0] = x0
+        for k in range(N - 1):
+            sol = solve_ivp(rhs, (t[k], t[k + 1]), x[k], method="DOP853", args=(u[k],), rtol=1e-9, atol=1e-12)
+            if not sol.success:
+                raise RuntimeError(sol.message)
+            x[k + 1] = sol.y[:, -1]
+        acc = np.array([rhs(tk, x[k], u[k])[3:6] for k, tk in enumerate(t)])  # u[k] acts from t_k on
+        return np.hstack([x[:, :6], acc])  # (N, 9): q, v, q''
     x0[:3] = Q0
     if extra is not None:
         x0[6] = Q0[extra[0]]
-    t = np.arange(N) * H
     sol = solve_ivp(rhs, (0.0, t[-1]), x0, method="DOP853", t_eval=t, rtol=1e-9, atol=1e-12, max_step=H)
     if not sol.success:
         raise RuntimeError(sol.message)
@@ -98,8 +131,72 @@ def simulate(M, K, D, force=None, extra=None):
     return np.hstack([sol.y[:6].T, acc])  # (N, 9): q, v, q''
 
 
-def peaks(M, K, D):
-    x = simulate(M, K, D)
+def state_space(M, K, D, extra=None):
+    """The linear building (with an appendage (j, m, f, zeta) as in simulate) as x' = A x + B u,
+    x = [q, v] (+ [qa, va]), u the force on floor 3 (F_IN)."""
+    n = 3 if extra is None else 4
+    Mi = np.zeros((n, n))
+    Mi[:3, :3] = np.linalg.inv(M)
+    Kx, Dx = np.zeros((n, n)), np.zeros((n, n))
+    Kx[:3, :3], Dx[:3, :3] = K, D
+    if extra is not None:  # the appendage's spring and damper between floor j and coordinate 3
+        j, ma, fa, za = extra
+        Mi[3, 3] = 1.0 / ma
+        for C, c in ((Kx, ma * (2 * np.pi * fa) ** 2), (Dx, 2 * za * ma * 2 * np.pi * fa)):
+            C[j, j] += c
+            C[3, 3] += c
+            C[j, 3] -= c
+            C[3, j] -= c
+    A = np.block([[np.zeros((n, n)), np.eye(n)], [-Mi @ Kx, -Mi @ Dx]])
+    B = np.concatenate([np.zeros(n), Mi[:, :3] @ F_IN])
+    order = [0, 1, 2, n, n + 1, n + 2] + ([3, 7] if extra is not None else [])  # simulate's order
+    return A[np.ix_(order, order)], B[order]
+
+
+def linear_zoh(A, B, u):
+    """The exact sampled response of x' = A x + B u from rest with u[k] held over [t_k, t_k+1): the
+    matrix exponential of [[A, B], [0, 0]] H steps the state (no integrator). (N, len(A))."""
+    n = len(A)
+    E = expm(np.block([[A, B[:, None]], [np.zeros((1, n + 1))]]) * H)
+    Ad, Bd = E[:n, :n], E[:n, n]
+    x = np.zeros((N, n))
+    for k in range(N - 1):
+        x[k + 1] = Ad @ x[k] + Bd * u[k]
+    return x
+
+
+def input_shape(g, kind):
+    """An input of the kind, unscaled, drawn from the generator g."""
+    t = np.arange(N) * H
+    if kind == "random":  # band-limited random: white noise through a Butterworth low-pass at 40 Hz
+        b, a = butter(4, 40.0, fs=1.0 / H)
+        return lfilter(b, a, g.standard_normal(N))
+    # a linear sweep 1 -> 40 Hz over the record, at a random phase, tapered over 0.2 s at both ends
+    w = chirp(t, f0=1.0, t1=t[-1], f1=40.0, method="linear", phi=g.uniform(0.0, 360.0))
+    taper = 0.5 * (1.0 - np.cos(np.pi * np.clip(np.minimum(t, t[-1] - t) / 0.2, 0.0, 1.0)))
+    return w * taper + 0.0  # (+ 0.0: the tapered ends are 0.0, not -0.0, in the records)
+
+
+def excitation(seed, index):
+    """--forced: case `index`'s input kind and shape (unscaled), and a white sequence for
+    --input-noise, from a generator of their own (the set's generator is not touched)."""
+    g = np.random.default_rng([seed, index])
+    kind = ["random", "chirp"][int(g.integers(0, 2))]
+    return kind, input_shape(g, kind), g.standard_normal(N)
+
+
+def drive(M, K, D, w):
+    """--forced: the input shape w scaled so that the linear building M, K, D (no effect) driven by
+    it peaks at |q3| = PEAK_Q3; None (free decay) without --forced."""
+    if w is None:
+        return None
+    x = linear_zoh(*state_space(M, K, D), w)
+    return w * (PEAK_Q3 / np.max(np.abs(x[:, 2])))
+
+
+def peaks(M, K, D, u=None):
+    """The peaks of |q| and |q'| of the linear building: its free decay, or its response to u."""
+    x = simulate(M, K, D) if u is None else linear_zoh(*state_space(M, K, D), u)
     return np.max(np.abs(x[:, :3]), axis=0), np.max(np.abs(x[:, 3:6]), axis=0)
 
 
@@ -112,13 +209,19 @@ def noise(rng, clean, level, rho):
     return level * rms * e, level * rms
 
 
+def record(y, u):
+    """A case's columns: with --forced the applied input first (t,u,q1,q3)."""
+    return y if u is None else np.column_stack([u, y])
+
+
 LEVELS = {"weak": 0, "medium": 1, "strong": 2}
 
 
-def case_a(rng, kind, strength):
+def case_a(rng, kind, strength, w=None):  # w: --forced's input shape (see drive), else None
     s = LEVELS[strength]
     M, K, D = matrices(rng)
-    qpk, vpk = peaks(M, K, D)
+    u = drive(M, K, D, w)
+    qpk, vpk = peaks(M, K, D, u)
     j = int(rng.integers(0, 3))
     o = int(rng.integers(0, 2))  # which output a sensor effect is on
     out_name = COLUMNS[o]
@@ -148,7 +251,7 @@ def case_a(rng, kind, strength):
         name = {"offset": "output_offset", "scale": "sensor_scale", "drift": "sensor_drift",
                 "quantization": "sensor_quantization"}[kind]
         truth = dict(sensor=out_name)
-    x = simulate(M, K, D, force, extra)
+    x = simulate(M, K, D, force, extra, u)
     clean = x[:, MEASURED].copy()
     e, sigma = noise(rng, clean, level, rho)
     y = clean + e
@@ -171,10 +274,10 @@ def case_a(rng, kind, strength):
         y[:, o] = step * np.round((clean[:, o] + e[:, o]) / step) if before else step * np.round(clean[:, o] / step) + e[:, o]
         truth.update(step=step, noise_before_quantizer=before)
     truth.update(effect=name)
-    return y, name, dict(level=level, rho=rho, effects=[truth])
+    return record(y, u), name, dict(level=level, rho=rho, effects=[truth])
 
 
-def case_b(rng, kind):
+def case_b(rng, kind, w=None):
     rho = 0.0
     if kind == "white":
         M, K, D = matrices(rng)
@@ -185,21 +288,23 @@ def case_b(rng, kind):
         M, K, D = matrices(rng, modal=list(rng.uniform(0.015, 0.05, 3)))
     else:  # mass
         M, K, D = matrices(rng, mass2=1000.0 * float(rng.choice([0.85, 1.15])))
-    x = simulate(M, K, D)
+    u = drive(M, K, D, w)  # scaled on the case's own (mismatched) building
+    x = simulate(M, K, D, u=u)
     clean = x[:, MEASURED].copy()
     level = rng.uniform(0.005, 0.02)
     e, _ = noise(rng, clean, level, rho)
-    return clean + e, dict(level=level, rho=rho, null_kind=kind, effects=[])
+    return record(clean + e, u), dict(level=level, rho=rho, null_kind=kind, effects=[])
 
 
-def case_c(rng, kind, strength):
+def case_c(rng, kind, strength, w=None):
     s = LEVELS[strength]
     M, K, D = matrices(rng)
-    qpk, vpk = peaks(M, K, D)
+    u = drive(M, K, D, w)
+    qpk, vpk = peaks(M, K, D, u)
     if kind in ("contact", "stop"):  # one-sided, at any floor, on either side (--more-c only)
         j, side = int(rng.integers(0, 3)), float(rng.choice([-1.0, 1.0]))
         gap = rng.uniform(0.5, 0.8) * qpk[j]
-        reach = qpk[j] - gap  # the penetration the linear decay would reach
+        reach = qpk[j] - gap  # the penetration the linear decay (or forced response) would reach
         peak_force = [0.1, 0.3, 1.0][s] * K[j, j] * qpk[j]  # the stop's force at that penetration
         law = 1.5 if kind == "contact" else 1.0  # Hertzian or linear
         kc = peak_force / reach ** law
@@ -238,17 +343,45 @@ def case_c(rng, kind, strength):
         kstop = 5.0 * K[2, 2]
         force = lambda q, v, t: np.array([0.0, 0.0, -kstop * max(q[2] - gap, 0.0)])
         truth = dict(kind="pounding", gap=gap, k_stop=kstop)
-    x = simulate(M, K, D, force)
+    x = simulate(M, K, D, force, u=u)
     clean = x[:, MEASURED].copy()
     level = rng.uniform(0.005, 0.02)
     e, _ = noise(rng, clean, level, 0.0)
     truth.update(level=level, effects=[])
-    return clean + e, truth
+    return record(clean + e, u), truth
+
+
+def self_check():
+    """--check: the interval-by-interval integration of simulate (u given) against the exact
+    discrete-time solution of the same linear building (linear_zoh, the matrix exponential), for
+    both kinds of input, on drawn buildings with Rayleigh or modal damping, two with an appendage
+    (at rest too). The error is the largest over the samples relative to the peak, of the floors'
+    q and of their q'; it must be below 1e-8. For scale, the same distance for u[k] acting one
+    sample late (what a misaligned hold would cost)."""
+    g = np.random.default_rng(7)  # a generator of its own: the sets' draws are not touched
+    print("self-check: ZOH integration (DOP853 per interval) vs expm of [[A, B], [0, 0]] H")
+    worst = 0.0
+    for kind, modal, extra in [("random", None, None), ("chirp", None, None), ("random", [0.02, 0.03, 0.04], None),
+                               ("chirp", None, (2, 25.0, 20.0, 0.01)), ("random", None, (0, 50.0, 15.0, 0.02))]:
+        M, K, D = matrices(g, modal=modal)
+        u = drive(M, K, D, input_shape(g, kind))
+        exact = linear_zoh(*state_space(M, K, D, extra), u)
+        x = simulate(M, K, D, extra=extra, u=u)
+        errs = [np.max(np.abs(x[:, c] - exact[:, c])) / np.max(np.abs(exact[:, c])) for c in (slice(0, 3), slice(3, 6))]
+        late = linear_zoh(*state_space(M, K, D, extra), np.concatenate([[0.0], u[:-1]]))
+        shift = np.max(np.abs(late[:, :3] - exact[:, :3])) / np.max(np.abs(exact[:, :3]))
+        worst = max(worst, *errs)
+        print(f"  {kind:6s} {'modal' if modal else 'Rayleigh':8s} appendage={extra is not None!s:5s} "
+              f"rms(u)={np.sqrt(np.mean(u ** 2)):9.1f} N  peak|q3| linear {np.max(np.abs(exact[:, 2])):.6f} "
+              f"integrated {np.max(np.abs(x[:, 2])):.6f} m  err q {errs[0]:.1e}  q' {errs[1]:.1e}  "
+              f"(u one sample late: {shift:.1e})")
+    print(f"  worst relative error {worst:.2e} (must be < 1e-8)")
+    assert worst < 1e-8, worst
 
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--out", required=True)
+    ap.add_argument("--out", help="the set's directory (required unless --check alone)")
     ap.add_argument("--set", choices=["dev", "held"], default="dev")
     ap.add_argument("--seed", type=int, default=None, help="a fresh draw (default: the set's own seed)")
     ap.add_argument("--more-c", action="store_true",
@@ -259,42 +392,78 @@ def main():
                          "loses stiffness by an exponential law in time or in a sudden smooth step (12 cases)")
     ap.add_argument("--accelerations", action="store_true",
                     help="record the accelerations a1, a3 (fixtures/shear_building_acc2.ron) instead of q1, q3")
+    ap.add_argument("--forced", action="store_true",
+                    help="start at rest and shake floor 3 with a measured, zero-order-held force u (random or "
+                         "chirp); records t,u,q1,q3 (fixtures/shear_building_forced_q.ron)")
+    ap.add_argument("--input-noise", type=float, default=0.0, metavar="LEVEL",
+                    help="with --forced: white noise of LEVEL x RMS(u) on the recorded u only (default 0)")
+    ap.add_argument("--check", action="store_true",
+                    help="first check the forced integration against the exact discrete-time linear solution")
     opt = ap.parse_args()
+    if opt.forced and opt.accelerations:
+        ap.error("--forced records displacements (t,u,q1,q3); it cannot be combined with --accelerations")
+    if opt.input_noise and not opt.forced:
+        ap.error("--input-noise needs --forced")
+    if opt.input_noise < 0:
+        ap.error("--input-noise must be >= 0")
+    if opt.out is None and not opt.check:
+        ap.error("the following arguments are required: --out")
+    if opt.check:
+        self_check()
+        if opt.out is None:
+            return
     global MEASURED, COLUMNS, MODEL
     if opt.accelerations:
         MEASURED, COLUMNS, MODEL = [6, 8], ["a1", "a3"], "shear_building_acc2.ron"
-    rng = np.random.default_rng(opt.seed if opt.seed is not None else (20261123 if opt.set == "dev" else 20261124))
+    if opt.forced:
+        MODEL = "shear_building_forced_q.ron"
+    set_seed = opt.seed if opt.seed is not None else (20261123 if opt.set == "dev" else 20261124)
+    rng = np.random.default_rng(set_seed)
     os.makedirs(os.path.join(opt.out, "data"), exist_ok=True)
     here = os.path.dirname(os.path.abspath(__file__))
     shutil.copy(os.path.join(here, "..", "..", "fixtures", MODEL), os.path.join(opt.out, MODEL))
     cases = []
 
+    def run(case, *a):
+        """A case function's result; with --forced the case gets its input (drawn from a generator of its
+        own, seeded [set_seed, case index]), the recorded u its noise, and the truth the input."""
+        if not opt.forced:
+            return case(rng, *a)
+        kind, w, e = excitation(set_seed, len(cases))
+        *res, truth = case(rng, *a, w=w)
+        u = res[0][:, 0]  # the applied input, recorded as column u
+        rms = float(np.sqrt(np.mean(u ** 2)))
+        if opt.input_noise:
+            u += opt.input_noise * rms * e
+        truth["input"] = dict(kind=kind, rms=rms, noise=opt.input_noise)
+        return (*res, truth)
+
     def write(name, y, family, effect, accept, strength, truth):
         path = os.path.join("data", name + ".csv")
         with open(os.path.join(opt.out, path), "w") as f:
-            f.write(f"t,{COLUMNS[0]},{COLUMNS[1]}\n")
+            f.write(",".join(["t"] + (["u"] if opt.forced else []) + COLUMNS) + "\n")
             for k in range(N):
-                f.write(f"{k * H!r},{float(y[k, 0])!r},{float(y[k, 1])!r}\n")
+                f.write(",".join([f"{k * H!r}"] + [f"{float(v)!r}" for v in y[k]]) + "\n")
         cases.append(dict(name=name, model=MODEL, data=path, free=FREE, args=[], family=family,
                           effect=effect, accept=accept, strength=strength, truth=truth))
 
     for kind in ["cubic", "friction", "drag", "offset", "scale", "drift", "quantization", "appendage"]:
         for strength in LEVELS:
             for seed in range(2):
-                y, name, truth = case_a(rng, kind, strength)
+                y, name, truth = run(case_a, kind, strength)
                 write(f"A_{kind}_{strength}_s{seed}", y, "A", name, [name], strength, truth)
     for kind in ["white"] * 8 + ["coloured"] * 10 + ["modal_damping"] * 6 + ["mass"] * 6:
-        y, truth = case_b(rng, kind)
+        y, truth = run(case_b, kind)
         write(f"B_{kind}_{len(cases)}", y, "B", "none", ["none"], "-", truth)
     for kind in ["degrading", "pounding"]:
         for strength in LEVELS:
             for seed in range(2):
-                y, truth = case_c(rng, kind, strength)
+                y, truth = run(case_c, kind, strength)
                 write(f"C_{kind}_{strength}_s{seed}", y, "C", "none", ["none"], strength, truth)
     for kind in (["contact", "stop"] if opt.more_c else []) + (["loss_exp", "loss_step"] if opt.more_degrading else []):
         for strength in LEVELS:
             for seed in range(2):
-                y, truth = case_c(rng, kind, strength)
+                y, truth = run(case_c, kind, strength)
                 write(f"C_{kind}_{strength}_s{seed}", y, "C", "none", ["none"], strength, truth)
     json.dump(dict(cases=cases), open(os.path.join(opt.out, "truth.json"), "w"), indent=1)
     print(len(cases), "cases in", opt.out)

@@ -22,6 +22,7 @@
 //! reported ([`glitch`]).
 
 pub mod diagnose;
+pub mod frf;
 pub mod glitch;
 pub mod localise;
 pub mod quantization;
@@ -52,10 +53,10 @@ pub enum WorkflowError {
     /// A candidate without a full refit cannot be scored out of sample.
     #[error("candidate `{0}` has no full refit to start its held-out refits from")]
     Unscored(String),
-    /// The model is driven by measured inputs; the catalog's nonlinear candidates are free-decay
-    /// models for now.
+    /// A slewing model driven by measured inputs: the rig's catalog sizes its candidates from
+    /// the step the servo answers (a structure file may be driven).
     #[error(
-        "diagnose works on free decays: this model is driven by {inputs}; remove its `inputs` and give a free-decay record"
+        "diagnose takes the slewing rig's step response only: this slewing model is driven by {inputs}; remove its `inputs` and give the step-response record"
     )]
     Driven {
         /// The input columns.

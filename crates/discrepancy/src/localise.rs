@@ -22,11 +22,15 @@ pub struct OutputDiscrepancy {
 /// The localisation of a discrepancy.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Localisation {
+    /// The Nyquist frequency of the grid the model is simulated on (the raw record's) \[Hz\]: no
+    /// mode above it is looked for.
+    pub nyquist_hz: f64,
     /// Per output.
     pub outputs: Vec<OutputDiscrepancy>,
     /// (start s, end s, share of the weighted error) for ten equal windows of the record.
     pub windows: Vec<(f64, f64, f64)>,
-    /// (amplitude, half-cycle log decrement) of the measured first output, largest amplitude first.
+    /// (amplitude, half-cycle log decrement) of the measured first output, largest amplitude first
+    /// (none for a forced record, whose half cycles follow its input).
     pub decrement_vs_amplitude: Vec<(f64, f64)>,
     /// Least-squares slope of the decrement against amplitude, divided by the mean decrement
     /// (per unit amplitude): ≈ 0 for viscous damping, > 0 when damping grows with amplitude
@@ -102,7 +106,9 @@ pub fn localise(data: &Measurement, outcome: &FitOutcome) -> Localisation {
         })
         .collect();
     let first: Vec<f64> = (0..k).map(|t| data.values()[(t, 0)]).collect();
-    let peaks = half_cycle_peaks(&first);
+    // A decrement is a free decay's: a forced record's half cycles follow its input.
+    let driven = data.inputs().is_some();
+    let peaks = if driven { Vec::new() } else { half_cycle_peaks(&first) };
     let noise_floor = 5.0 * outputs[0].rms.min(peaks.first().copied().unwrap_or(0.0) * 0.05);
     let decrement_vs_amplitude: Vec<(f64, f64)> = peaks
         .windows(2)
@@ -124,8 +130,15 @@ pub fn localise(data: &Measurement, outcome: &FitOutcome) -> Localisation {
             Err(_) => Vec::new(),
         }
     };
-    let residual_modes = modes_of(faer::Mat::from_fn(k, p, |t, o| weights[o] * residual[(t, o)]), 10);
-    let data_modes = modes_of(faer::Mat::from_fn(k, p, |t, o| weights[o] * data.values()[(t, o)]), 16);
+    // A free decay is a response ERA reads as it is; a forced record's resonances are the peaks
+    // of its frequency response from the measured inputs (`frf`).
+    let weighted = |of: &dyn Fn(usize, usize) -> f64| faer::Mat::from_fn(k, p, |t, o| weights[o] * of(t, o));
+    let read = |series: faer::Mat<f64>, order: usize| match driven {
+        true => crate::frf::resonances(data, &series).unwrap_or_default(),
+        false => modes_of(series, order),
+    };
+    let residual_modes = read(weighted(&|t, o| residual[(t, o)]), 10);
+    let data_modes = read(weighted(&|t, o| data.values()[(t, o)]), 16);
     let mut findings = Vec::new();
     if let Some(o) = outputs.iter().max_by(|a, b| a.share.total_cmp(&b.share)) {
         findings.push(format!("output `{}` carries {:.0} % of the error", o.name, 100.0 * o.share));
@@ -137,7 +150,9 @@ pub fn localise(data: &Measurement, outcome: &FitOutcome) -> Localisation {
                 o.name, o.whiteness_p
             ));
         }
-        if o.early_to_late > 3.0 {
+        if driven {
+            // Where a forced record's residual lies follows where the input drives it.
+        } else if o.early_to_late > 3.0 {
             findings.push(format!(
                 "the `{}` residual is {:.1}× larger early in the record than late (amplitude-dependent)",
                 o.name, o.early_to_late
@@ -164,6 +179,7 @@ pub fn localise(data: &Measurement, outcome: &FitOutcome) -> Localisation {
         ));
     }
     Localisation {
+        nyquist_hz: 0.5 / data.model_grid().1,
         outputs,
         windows,
         decrement_vs_amplitude,

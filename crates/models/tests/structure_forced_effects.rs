@@ -159,3 +159,49 @@ fn a_hardening_spring_is_fitted_from_a_forced_record() {
     let check = report.derivative_check.as_ref().expect("the check ran");
     assert!(check.worst_relative_mismatch < 1e-5, "{check:?}");
 }
+
+/// An unmodeled mode driven by the measured input is that input's response through
+/// η̈ + 2ζω η̇ + ω² η = ω² u from rest: for a unit step held from t = 0 the closed form
+/// η = 1 − e^{−ζωt}(cos ω_d t + ζω/ω_d sin ω_d t), η̇ = (ω²/ω_d) e^{−ζωt} sin ω_d t, added to each
+/// output as a η + b η̇/ω. A free ringing (no `driven_by`) in the same file starts from η = 1
+/// instead, and a `driven_by` that names no input is refused by name.
+#[test]
+fn a_driven_unmodeled_mode_adds_its_step_response() {
+    let (f, zeta, (a1, b1), (a3, b3)): (f64, f64, (f64, f64), (f64, f64)) =
+        (17.0, 0.03, (2e-6, -1e-6), (-5e-7, 3e-6));
+    let mode = |drive: &str| {
+        format!(
+            "UnmodeledMode(frequency_hz: {f}, damping_ratio: {zeta}, amplitudes: [({a1}, {b1}), ({a1}, {b1}), \
+             ({a3}, {b3})]{drive})"
+        )
+    };
+    let driven = Model::from_ron(&with_effects(&mode(", driven_by: \"u\"")), "f.ron").unwrap();
+    let plain = Model::from_ron(FILE, "f.ron").unwrap();
+    let (k, h) = (400, 0.002);
+    let names = ["u", "a1", "a2", "a3"].map(String::from).to_vec();
+    let step = Measurement::new(names, 0.0, h, Mat::from_fn(k, 4, |_, c| if c == 0 { 1.0 } else { 0.0 }))
+        .unwrap()
+        .with_inputs(&["u"], Hold::Zero)
+        .unwrap();
+    let with = respond(driven.response(&[]).unwrap().as_ref(), &[], &step);
+    let without = respond(plain.response(&[]).unwrap().as_ref(), &[], &step);
+    let w = 2.0 * std::f64::consts::PI * f;
+    let wd = w * (1.0 - zeta * zeta).sqrt();
+    for s in 0..k {
+        let t = s as f64 * h;
+        let decay = (-zeta * w * t).exp();
+        let eta = 1.0 - decay * ((wd * t).cos() + zeta * w / wd * (wd * t).sin());
+        let rate = w * w / wd * decay * (wd * t).sin();
+        for (o, (a, b)) in [(a1, b1), (a1, b1), (a3, b3)].into_iter().enumerate() {
+            let expected = without.outputs[(s, o)] + a * eta + b * rate / w;
+            assert!((with.outputs[(s, o)] - expected).abs() < 1e-12, "sample {s} output {o}");
+        }
+    }
+    // The free ringing starts at a_o (η(0) = 1): the driven mode at 0.
+    let ringing = Model::from_ron(&with_effects(&mode("")), "f.ron").unwrap();
+    let rung = respond(ringing.response(&[]).unwrap().as_ref(), &[], &step);
+    assert!((rung.outputs[(0, 0)] - without.outputs[(0, 0)] - a1).abs() < 1e-15);
+    assert!((with.outputs[(0, 0)] - without.outputs[(0, 0)]).abs() < 1e-15);
+    let err = Model::from_ron(&with_effects(&mode(", driven_by: \"v\"")), "f.ron").unwrap_err().to_string();
+    assert!(err.contains("driven_by = `v`") && err.contains("the inputs are u"), "{err}");
+}

@@ -22,7 +22,10 @@
 //! * **An unmodeled mode**: a damped oscillation at f_e with damping ratio ζ_e that the model's
 //!   modes do not contain — in free decay it adds to every output o its own amplitude,
 //!   y_o += a_o η(t) + b_o η̇(t)/ω_e, with η̈ + 2ζ_eω_e η̇ + ω_e² η = 0, η(0) = 1, η̇(0) = 0. It
-//!   is linear: two states appended to x, so the exact exponential path still applies.
+//!   is linear: two states appended to x, so the exact exponential path still applies. Driven
+//!   by a measured input u_i instead (a forced record from rest), the same mode is its response
+//!   to that input, η̈ + 2ζ_eω_e η̇ + ω_e² η = ω_e² u_i, η(0) = η̇(0) = 0: a static gain of 1, so
+//!   a_o and b_o are the output's share per unit input.
 //!
 //! Every effect's parameters join the model's, after the file's, with names that say where they
 //! act: `offset_<output>`, `scale_<output>`, `drift_<output>`, `crosstalk_<output>_<from>`,
@@ -139,6 +142,10 @@ pub enum Effect {
         damping_ratio: f64,
         /// (a_o, b_o) per output, in the outputs' order.
         amplitudes: Vec<(f64, f64)>,
+        /// The measured input that drives the mode (from rest, with a static gain of 1); none
+        /// for a free ringing from η(0) = 1.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        driven_by: Option<String>,
     },
 }
 
@@ -244,7 +251,7 @@ impl Effect {
                 out.extend(rate.map(|r| (format!("stiffness_rate_{coordinate}"), r)));
                 out
             }
-            Effect::UnmodeledMode { frequency_hz, damping_ratio, amplitudes } => {
+            Effect::UnmodeledMode { frequency_hz, damping_ratio, amplitudes, .. } => {
                 let mut out = vec![
                     ("mode_frequency".to_string(), *frequency_hz),
                     ("mode_damping".into(), *damping_ratio),
@@ -283,7 +290,7 @@ impl Effect {
                 *slots[k] = value;
             }
             Effect::Drag { coefficient, exponent, .. } => *[coefficient, exponent][k] = value,
-            Effect::UnmodeledMode { frequency_hz, damping_ratio, amplitudes } => match k {
+            Effect::UnmodeledMode { frequency_hz, damping_ratio, amplitudes, .. } => match k {
                 0 => *frequency_hz = value,
                 1 => *damping_ratio = value,
                 k if k % 2 == 0 => amplitudes[(k - 2) / 2].0 = value,
@@ -293,12 +300,13 @@ impl Effect {
         }
     }
 
-    /// Why the effect cannot act on a model with these outputs and coordinates (`None` if it
-    /// can); `second_order` says whether the coordinates are a second-order model's.
+    /// Why the effect cannot act on a model with these outputs, coordinates and inputs (`None`
+    /// if it can); `second_order` says whether the coordinates are a second-order model's.
     pub(crate) fn invalid(
         &self,
         outputs: &[String],
         coordinates: &[String],
+        inputs: &[String],
         second_order: bool,
     ) -> Option<String> {
         let finite = |name: &str, v: f64| (!v.is_finite()).then(|| format!("{name} = {v} is not finite"));
@@ -347,7 +355,7 @@ impl Effect {
                 Effect::Drag { exponent, .. } if *exponent < 1.0 => {
                     Some(format!("exponent = {exponent}: give an exponent of at least 1"))
                 }
-                Effect::UnmodeledMode { frequency_hz, damping_ratio, amplitudes } => {
+                Effect::UnmodeledMode { frequency_hz, damping_ratio, amplitudes, driven_by } => {
                     if *frequency_hz <= 0.0 {
                         Some(format!("frequency_hz = {frequency_hz}: give a positive frequency"))
                     } else if *damping_ratio < 0.0 {
@@ -359,7 +367,13 @@ impl Effect {
                             outputs.len()
                         ))
                     } else {
-                        None
+                        driven_by.as_ref().filter(|i| !inputs.contains(i)).map(|input| {
+                            if inputs.is_empty() {
+                                format!("driven_by = `{input}`: the model has no inputs; leave it out for a free ringing")
+                            } else {
+                                format!("driven_by = `{input}`: no such input; the inputs are {}", inputs.join(", "))
+                            }
+                        })
                     }
                 }
                 _ => None,
@@ -414,9 +428,10 @@ impl Effect {
     }
 }
 
-/// Appends an unmodeled mode's two states to A, C, x(0) (and zero rows to B): `theta` is
-/// (f_e, ζ_e, a_1, b_1, …, a_p, b_p).
-pub(crate) fn append_mode<D: Scalar>(space: &mut mem::StateSpace<D>, theta: &[D]) {
+/// Appends an unmodeled mode's two states to A, C, x(0) and B: `theta` is
+/// (f_e, ζ_e, a_1, b_1, …, a_p, b_p). A free ringing starts from η(0) = 1 and B's new rows are
+/// zero; a mode driven by input `driven_by` starts from rest with ω_e² in η̈'s row of that input.
+pub(crate) fn append_mode<D: Scalar>(space: &mut mem::StateSpace<D>, theta: &[D], driven_by: Option<usize>) {
     let n = space.a.nrows();
     let omega = theta[0] * D::from(2.0 * std::f64::consts::PI);
     let zeta = theta[1];
@@ -434,10 +449,15 @@ pub(crate) fn append_mode<D: Scalar>(space: &mut mem::StateSpace<D>, theta: &[D]
     }
     let mut x0 = DVector::from_element(n + 2, D::from(0.0));
     x0.rows_mut(0, n).copy_from(&space.x0);
-    x0[n] = D::from(1.0);
+    if driven_by.is_none() {
+        x0[n] = D::from(1.0);
+    }
     if let Some(b) = &space.b {
         let mut wide = DMatrix::from_element(n + 2, b.ncols(), D::from(0.0));
         wide.view_mut((0, 0), (n, b.ncols())).copy_from(b);
+        if let Some(i) = driven_by.filter(|&i| i < b.ncols()) {
+            wide[(n + 1, i)] = omega * omega;
+        }
         space.b = Some(wide);
     }
     space.a = a;

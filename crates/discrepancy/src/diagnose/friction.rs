@@ -127,7 +127,7 @@ pub(super) fn fading(candidate: &Candidate, trial: &Trial, test: &FormTest) -> O
     let mut from = candidate.model.clone()?;
     let (rate, range, on_structure) = match &trial.effect {
         models::ModelEffect::Structure(structure::Effect::DryFriction { coordinate, .. }) => {
-            let scales = super::catalog::structure::scales(test.reference.as_structure()?)
+            let scales = super::catalog::structure::scales(test.reference.as_structure()?, Some(data))
                 .into_iter()
                 .find(|s| s.coordinate == *coordinate)?;
             from.add_effect(

@@ -5,6 +5,7 @@
 
 use super::answer::AddedTerm;
 use super::catalog::structure::{has_effect, scales};
+use mem::Measurement;
 use models::{FitOutcome, Model, ModelEffect};
 use plant::{ParamId, SlewingModel};
 
@@ -137,13 +138,14 @@ pub struct RivalTrial {
 /// servo's settling point and its closed-loop frequency as a low, damping-coupled mode can, with
 /// one parameter for the mode's three.
 ///
-/// For a second-order structure also a linear damper at each coordinate that has no drag
+/// For a second-order structure also a linear damper at each coordinate that has no drag, sized
+/// by its response to `record` ([`scales`]),
 /// (`drag_<c>` with exponent 1, within ± twice the model's diagonal damping there, at least 1 %
 /// critical): damping distributed otherwise than the model's — Rayleigh damping sets every
 /// mode's ratio from two numbers — leaves a decay a drag or a dry friction at one storey can
 /// shave, and an amplitude-dependent force is named only where the data demand more than a
 /// linear one.
-pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
+pub fn rival_parameters(model: &Model, record: Option<&Measurement>, refitted: &[String]) -> Vec<RivalTrial> {
     let named = |ids: Vec<(ParamId, (f64, f64))>| {
         ids.into_iter()
             .map(|(id, bounds)| RivalTrial { name: id.name(), bounds, adds: None, penalty: 0.0 })
@@ -189,7 +191,7 @@ pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
                 .into_iter()
                 .map(|(name, bounds)| RivalTrial { name, bounds, adds: None, penalty: 0.0 })
                 .collect();
-            all.extend(linear_dampers(m));
+            all.extend(linear_dampers(m, record));
             all
         }
     };
@@ -198,9 +200,9 @@ pub fn rival_parameters(model: &Model, refitted: &[String]) -> Vec<RivalTrial> {
 
 /// A linear damper at each coordinate of a second-order structure that has no drag there
 /// ([`rival_parameters`]).
-fn linear_dampers(model: &structure::StructureModel) -> Vec<RivalTrial> {
+fn linear_dampers(model: &structure::StructureModel, record: Option<&Measurement>) -> Vec<RivalTrial> {
     let outputs = model.output_names();
-    scales(model)
+    scales(model, record)
         .into_iter()
         .filter_map(|s| {
             let effect =
@@ -266,7 +268,7 @@ mod tests {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/shear_building.ron");
         let text = std::fs::read_to_string(path).unwrap();
         let model = Model::from_ron(&text, "shear_building.ron").unwrap();
-        let rivals = rival_parameters(&model, &["k1".into(), "k2".into(), "k3".into()]);
+        let rivals = rival_parameters(&model, None, &["k1".into(), "k2".into(), "k3".into()]);
         let damper = |c: &str| rivals.iter().find(|r| r.name == format!("drag_{c}"));
         for (c, d) in [("q1", 6_312.5), ("q3", 2_718.75)] {
             let r = damper(c).expect("tried");
@@ -292,7 +294,7 @@ mod tests {
             "shear_building.ron",
         )
         .unwrap();
-        let rivals = rival_parameters(&dragged, &[]);
+        let rivals = rival_parameters(&dragged, None, &[]);
         assert!(!rivals.iter().any(|r| r.name == "drag_q2") && rivals.iter().any(|r| r.name == "drag_q1"));
     }
 
@@ -308,7 +310,7 @@ mod tests {
     #[test]
     fn a_spring_at_the_hub_is_tried_where_the_model_has_none() {
         let model = paper_model(|t| t);
-        let rivals = rival_parameters(&model, &["cv".to_string()]);
+        let rivals = rival_parameters(&model, None, &["cv".to_string()]);
         let spring = rivals.iter().find(|r| r.name == "hub_stiffness").expect("tried");
         let servo = 1.8204 * 8.0 * 0.05508 / 2.0;
         assert!(
@@ -322,16 +324,16 @@ mod tests {
         with.add_effect(spring.adds.clone().unwrap().0).unwrap();
         assert_eq!(with.value("hub_stiffness").unwrap(), 0.0);
         assert_eq!(with.value("cubic_stiffness").unwrap(), 0.0);
-        assert!(!rival_parameters(&with, &[]).iter().any(|r| r.name == "hub_stiffness"));
+        assert!(!rival_parameters(&with, None, &[]).iter().any(|r| r.name == "hub_stiffness"));
         let cubic = paper_model(|t| {
             t.replace(
                 "    free: [\"cv\"],",
                 "    effects: [CubicStiffness(coefficient: 1.0)],\n    free: [\"cv\"],",
             )
         });
-        assert!(!rival_parameters(&cubic, &[]).iter().any(|r| r.name == "hub_stiffness"));
+        assert!(!rival_parameters(&cubic, None, &[]).iter().any(|r| r.name == "hub_stiffness"));
         assert!(
-            !rival_parameters(&model, &["hub_stiffness".to_string()])
+            !rival_parameters(&model, None, &["hub_stiffness".to_string()])
                 .iter()
                 .any(|r| r.name == "hub_stiffness")
         );

@@ -175,7 +175,7 @@ pub fn diagnose_observed(
     options: &DiagnoseOptions,
     observer: &dyn Observe,
 ) -> Result<Diagnosis, WorkflowError> {
-    if !model.input_names().is_empty() {
+    if model.as_slewing().is_some() && !model.input_names().is_empty() {
         return Err(WorkflowError::Driven { inputs: model.input_names().join(", ") });
     }
     let tolerance = options.file_tolerance;
@@ -234,7 +234,7 @@ pub fn diagnose_observed(
     let start = reference.outcome.fitted.clone();
     let wanted = |kind: EffectKind| options.only.is_empty() || options.only.contains(&kind);
     let trials: Vec<Trial> =
-        catalog::trials(&start, &localisation).into_iter().filter(|t| wanted(t.kind)).collect();
+        catalog::trials(&start, &data, &localisation).into_iter().filter(|t| wanted(t.kind)).collect();
     // Every candidate is refitted on half the record: it needs 10 readings a parameter there.
     let parameters = reference_free.len() + trials.iter().map(|t| t.freed.len()).max().unwrap_or(0);
     let residuals = data.n_samples() * data.n_outputs();

@@ -131,11 +131,12 @@ fn departures(
 
 impl Rivals<'_> {
     pub(super) fn find(&self, data: &Measurement, gain: impl Fn(&FitOutcome) -> f64 + Sync) -> Vec<Rival> {
-        let tried: Vec<mismatch::RivalTrial> = mismatch::rival_parameters(self.reference, self.free)
-            .into_iter()
-            .chain(self.also.iter().cloned())
-            .filter(|t| !self.exclude.contains(&t.name))
-            .collect();
+        let tried: Vec<mismatch::RivalTrial> =
+            mismatch::rival_parameters(self.reference, Some(data), self.free)
+                .into_iter()
+                .chain(self.also.iter().cloned())
+                .filter(|t| !self.exclude.contains(&t.name))
+                .collect();
         let mut found = tried
             .par_iter()
             .filter_map(|t| {

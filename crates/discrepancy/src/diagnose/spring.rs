@@ -88,7 +88,7 @@ pub(super) fn form(candidate: &Candidate, trial: &Trial, test: &FormTest) -> Opt
             rate: None,
             ..
         }) => {
-            let scales = super::catalog::structure::scales(test.reference.as_structure()?)
+            let scales = super::catalog::structure::scales(test.reference.as_structure()?, Some(test.data))
                 .into_iter()
                 .find(|s| s.coordinate == *coordinate)?;
             let effect = structure::Effect::CubicStiffness {

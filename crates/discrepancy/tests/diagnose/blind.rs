@@ -74,7 +74,7 @@ fn blind_development_set_meets_its_rules() {
 }
 
 #[test]
-fn a_driven_model_is_refused_in_one_sentence() {
+fn a_driven_slewing_model_is_refused_in_one_sentence() {
     let driven = edited(|t| t.replace("    bounds: {", "    inputs: [ReferenceAngle],\n    bounds: {"));
     let data = record(&SlewingModel::paper(), 1);
     let err = diagnose(&driven.into(), &data, &options()).unwrap_err();

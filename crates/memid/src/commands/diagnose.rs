@@ -56,6 +56,16 @@ fn number(x: Option<f64>) -> String {
     x.map_or_else(|| "—".into(), |v| format!("{v:.1}"))
 }
 
+/// A fitted value to six significant digits: fixed-point between 10⁻³ and 10⁶, else in
+/// exponent form (a driven mode's amplitude per newton, 10⁻⁹ m/N, would print as 0.00000).
+fn value(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-3..1e6).contains(&v.abs()) {
+        format!("{v:.5}")
+    } else {
+        format!("{v:.5e}")
+    }
+}
+
 /// The scores as a table.
 pub fn diagnosis_table(d: &Diagnosis) -> String {
     let mut out = String::from("localisation:\n");
@@ -71,8 +81,8 @@ pub fn diagnosis_table(d: &Diagnosis) -> String {
             .parameters
             .iter()
             .map(|p| match p.std_error {
-                Some(se) => format!("{} = {:.5} ± {:.2e}", p.name, p.value, se),
-                None => format!("{} = {:.5}", p.name, p.value),
+                Some(se) => format!("{} = {} ± {:.2e}", p.name, value(p.value), se),
+                None => format!("{} = {}", p.name, value(p.value)),
             })
             .collect::<Vec<_>>()
             .join(", ");

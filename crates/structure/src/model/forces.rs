@@ -59,9 +59,12 @@ impl StructureModel {
     /// place, or a second unmodeled mode.
     pub fn add_effect(&mut self, effect: Effect) -> Result<(), StructureError> {
         let invalid = |reason: String| Err(StructureError::InvalidEffect { reason });
-        if let Some(reason) =
-            effect.invalid(&self.output_names(), &self.coordinates(), self.is_second_order())
-        {
+        if let Some(reason) = effect.invalid(
+            &self.output_names(),
+            &self.coordinates(),
+            &self.input_names(),
+            self.is_second_order(),
+        ) {
             return invalid(reason);
         }
         if self.effects.iter().any(|e| e.kind() == effect.kind() && e.target() == effect.target()) {

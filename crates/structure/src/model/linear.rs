@@ -57,8 +57,9 @@ impl StructureModel {
         };
         let mut space = self.checked.compiled.state_space_damped(&p[..n_file], &dampers)?;
         for (effect, start) in self.effect_offsets() {
-            if effect.kind() == EffectKind::UnmodeledMode {
-                crate::effects::append_mode(&mut space, &p[start..]);
+            if let Effect::UnmodeledMode { driven_by, .. } = effect {
+                let input = driven_by.as_ref().and_then(|d| self.input_names().iter().position(|i| i == d));
+                crate::effects::append_mode(&mut space, &p[start..], input);
             }
         }
         Ok(space)

@@ -185,9 +185,12 @@ impl StructureModel {
             Slot::Effect(e, k) => {
                 let mut effect = self.effects[e].clone();
                 effect.set(k, value);
-                if let Some(reason) =
-                    effect.invalid(&self.output_names(), &self.coordinates(), self.is_second_order())
-                {
+                if let Some(reason) = effect.invalid(
+                    &self.output_names(),
+                    &self.coordinates(),
+                    &self.input_names(),
+                    self.is_second_order(),
+                ) {
                     return Err(StructureError::InvalidEffect { reason });
                 }
                 self.effects[e] = effect;

@@ -13,6 +13,7 @@ pub use seeds::Located;
 use seeds::{LIGHTLY_DAMPED, Seed, drift_time_range, mode_seeds, record_length};
 
 use crate::localise::Localisation;
+use mem::Measurement;
 use models::{Model, ModelEffect};
 use plant::{EffectKind, Sensor, SlewingModel};
 
@@ -175,13 +176,14 @@ impl Strength {
     }
 }
 
-/// The catalog's candidates for `model` (which already carries the effects found so far), with
+/// The catalog's candidates for `model` (which already carries the effects found so far) on
+/// `record` (a structure's force scales are its response to the record's inputs), with
 /// the residual modes of `localisation` for an unmodeled mode (and, for a structure, its
 /// residual RMS per output for the mode's starting amplitudes). Effects the model has are not
 /// tried again.
-pub fn trials(model: &Model, localisation: &Localisation) -> Vec<Trial> {
+pub fn trials(model: &Model, record: &Measurement, localisation: &Localisation) -> Vec<Trial> {
     match model {
         Model::Slewing(m) => slewing::trials(m, localisation),
-        Model::Structure(m) => structure::trials(m, localisation),
+        Model::Structure(m) => structure::trials(m, record, localisation),
     }
 }

@@ -145,8 +145,9 @@ pub(super) fn mode_seeds(
             if !damped_enough || near_servo || seeds.iter().any(|s| (s.frequency / f - 1.0).abs() < 0.1) {
                 continue;
             }
-            // A mode needs three cycles in the record to be told from a trend.
-            let mut limits = (MIN_CYCLES / record, f64::INFINITY);
+            // A mode needs three cycles in the record to be told from a trend, and must lie
+            // below the Nyquist frequency of the grid it is simulated on.
+            let mut limits = (MIN_CYCLES / record, localisation.nyquist_hz);
             for &s in avoid {
                 if s < f {
                     limits.0 = limits.0.max((1.0 + margin) * s);
@@ -199,6 +200,7 @@ mod tests {
             physical: true,
         };
         let record = |modes: Vec<era::EraMode>| Localisation {
+            nyquist_hz: 64.0,
             outputs: Vec::new(),
             windows: vec![(0.0, 30.0, 1.0)],
             decrement_vs_amplitude: Vec::new(),

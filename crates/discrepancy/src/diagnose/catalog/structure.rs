@@ -6,6 +6,7 @@
 use super::{LIGHTLY_DAMPED, Located, Strength, Trial, mode_seeds};
 use crate::localise::Localisation;
 use faer::Mat;
+use mem::Measurement;
 use plant::EffectKind;
 use structure::{Effect, StructureModel};
 
@@ -24,38 +25,57 @@ pub(super) fn kind(effect: &Effect) -> EffectKind {
     }
 }
 
-/// Peak |q_j| and |q̇_j| of the model's free decay over two periods of its lowest mode (the
-/// exponential of A over one short step, applied step by step).
-fn peaks(model: &StructureModel) -> Option<Vec<(f64, f64)>> {
+/// Peak |q_j| and |q̇_j| of the model's response: to the measured inputs of `record` over its
+/// whole length where it has them (held between samples, from the model's initial state),
+/// else of its free decay over two periods of its lowest mode. The exponential of A (of
+/// [[A, B], [0, 0]] with inputs) over one step is applied step by step.
+fn peaks(model: &StructureModel, record: Option<&Measurement>) -> Option<Vec<(f64, f64)>> {
     if !model.is_second_order() {
         return None;
     }
     let n = model.coordinates().len();
     let space = model.state_space::<f64>(&model.values()).ok()?;
-    let modes = model.modes().ok()?;
-    let (low, high) = (modes.first()?.frequency_hz, modes.last()?.frequency_hz);
-    if !(low > 0.0 && high.is_finite()) {
-        return None;
-    }
-    let h = 1.0 / (20.0 * high);
-    let steps = ((2.0 / low) / h).ceil().min(1e5) as usize;
     let big = space.a.nrows();
-    let a = Mat::from_fn(big, big, |r, c| space.a[(r, c)] * h);
-    let phi = expm::expm(a.as_ref()).ok()?;
+    let inputs = record.and_then(|r| Some((r.inputs()?, r.model_grid().1))).zip(space.b.as_ref());
+    let (h, steps, u) = match inputs {
+        Some(((inputs, h), b)) => (h, inputs.values().nrows(), Some((inputs.values(), b))),
+        None => {
+            let modes = model.modes().ok()?;
+            let (low, high) = (modes.first()?.frequency_hz, modes.last()?.frequency_hz);
+            if !(low > 0.0 && high.is_finite()) {
+                return None;
+            }
+            let h = 1.0 / (20.0 * high);
+            (h, ((2.0 / low) / h).ceil().min(1e5) as usize, None)
+        }
+    };
+    // [[Φ, Γ], [0, I]] = exp([[A, B], [0, 0]] h): Γ is the zero-order hold's input gain.
+    let m = u.map_or(0, |(_, b)| b.ncols());
+    let augmented = Mat::from_fn(big + m, big + m, |r, c| match (r < big, c < big) {
+        (true, true) => space.a[(r, c)] * h,
+        (true, false) => u.map_or(0.0, |(_, b)| b[(r, c - big)] * h),
+        _ => 0.0,
+    });
+    let phi = expm::expm(augmented.as_ref()).ok()?;
     let mut x: Vec<f64> = space.x0.iter().copied().collect();
     let mut peak = vec![(0.0f64, 0.0f64); n];
-    for _ in 0..steps {
+    for k in 0..steps {
         for (j, p) in peak.iter_mut().enumerate() {
             p.0 = p.0.max(x[j].abs());
             p.1 = p.1.max(x[n + j].abs());
         }
-        x = (0..big).map(|r| (0..big).map(|c| phi[(r, c)] * x[c]).sum()).collect();
+        x = (0..big)
+            .map(|r| {
+                let free: f64 = (0..big).map(|c| phi[(r, c)] * x[c]).sum();
+                free + u.map_or(0.0, |(values, _)| (0..m).map(|i| phi[(r, big + i)] * values[(k, i)]).sum())
+            })
+            .collect();
     }
     peak.iter().all(|(q, v)| q.is_finite() && v.is_finite()).then_some(peak)
 }
 
-/// A coordinate's scales, from the model alone: its peak displacement q̂ and rate v̂ in the
-/// model's own free decay, its diagonal stiffness k_jj, and the viscous force at the peak rate
+/// A coordinate's scales, from the model and what drives it: its peak displacement q̂ and rate
+/// v̂ in the model's response ([`peaks`]: to the record's measured inputs, or its own free decay), its diagonal stiffness k_jj, and the viscous force at the peak rate
 /// (at least that of 1 % critical damping).
 pub(in crate::diagnose) struct Scales {
     /// The coordinate's name.
@@ -71,10 +91,10 @@ pub(in crate::diagnose) struct Scales {
 }
 
 /// [`Scales`] of every coordinate of a second-order model where they are all positive (none for
-/// a first-order model).
-pub(in crate::diagnose) fn scales(model: &StructureModel) -> Vec<Scales> {
+/// a first-order model), in its response to `record`'s inputs (its free decay without them).
+pub(in crate::diagnose) fn scales(model: &StructureModel, record: Option<&Measurement>) -> Vec<Scales> {
     let matrices = model.second_order::<f64>(&model.values()).ok().flatten();
-    let Some((so, peaks)) = matrices.zip(peaks(model)) else { return Vec::new() };
+    let Some((so, peaks)) = matrices.zip(peaks(model, record)) else { return Vec::new() };
     model
         .coordinates()
         .iter()
@@ -106,7 +126,11 @@ fn trial(
 }
 
 /// The catalog's candidates for a structure (see the module docs).
-pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec<Trial> {
+pub(super) fn trials(
+    model: &StructureModel,
+    record: &Measurement,
+    localisation: &Localisation,
+) -> Vec<Trial> {
     let outputs = model.output_names();
     let mut out = Vec::new();
     for (o, name) in outputs.iter().enumerate() {
@@ -157,7 +181,7 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
             );
         }
     }
-    for Scales { coordinate: c, q, v, k, viscous } in scales(model) {
+    for Scales { coordinate: c, q, v, k, viscous } in scales(model, Some(record)) {
         out.push(
             trial(
                 // Smoothed over 1 % of the peak rate: sharp for the motion, smooth enough
@@ -230,36 +254,63 @@ pub(super) fn trials(model: &StructureModel, localisation: &Localisation) -> Vec
     // a seed's range stops 15 % short of the modelled modes around it.
     let modelled: Vec<f64> =
         model.modes().map(|m| m.iter().map(|r| r.frequency_hz).collect()).unwrap_or_default();
+    // On a forced record the mode is the response to a measured input, from rest (one trial
+    // per input, the input named in the label when there are several); in free decay, a
+    // ringing from the start.
+    let drives: Vec<Option<(String, f64)>> = match record.inputs() {
+        Some(inputs) if !model.input_names().is_empty() => inputs
+            .names()
+            .iter()
+            .enumerate()
+            .filter_map(|(i, name)| {
+                let column = inputs.values().col(i);
+                let rms = (column.iter().map(|u| u * u).sum::<f64>() / column.nrows().max(1) as f64).sqrt();
+                (rms > 0.0 && rms.is_finite()).then(|| Some((name.clone(), rms)))
+            })
+            .collect(),
+        _ => vec![None],
+    };
+    let several = drives.len() > 1;
     for seed in mode_seeds(&modelled, 0.15, LIGHTLY_DAMPED, localisation, &[]) {
-        let (f, zeta, (low, high)) = (seed.frequency, seed.damping, seed.range);
-        let amplitudes: Vec<(f64, f64)> = localisation.outputs.iter().map(|o| (o.rms, 0.0)).collect();
-        let located = Located {
-            name: "mode_frequency".into(),
-            limits: seed.limits,
-            prefix: "unmodeled_mode(".into(),
-            damping: "mode_damping".into(),
-        };
-        let at = |f: f64| Effect::UnmodeledMode {
-            frequency_hz: f,
-            damping_ratio: zeta.clamp(0.005, 0.15),
-            amplitudes: amplitudes.clone(),
-        };
-        let mut t = trial(
-            at(f),
-            located.label(f),
-            vec![("mode_frequency".into(), (low, high)), ("mode_damping".into(), (0.0, 0.2))],
-            vec![Strength::Largest(
-                outputs
-                    .iter()
-                    .map(|o| format!("mode_cos_{o}"))
-                    .chain(outputs.iter().map(|o| format!("mode_sin_{o}")))
-                    .collect(),
-            )],
-            &outputs,
-        )
-        .or_from_other_starts(&seed, at);
-        t.located = Some(located);
-        out.push(t);
+        for drive in &drives {
+            let (f, zeta, (low, high)) = (seed.frequency, seed.damping, seed.range);
+            // A ringing's amplitude is the residual's RMS; a driven mode's, per unit input.
+            let per = drive.as_ref().map_or(1.0, |(_, rms)| *rms);
+            let amplitudes: Vec<(f64, f64)> =
+                localisation.outputs.iter().map(|o| (o.rms / per, 0.0)).collect();
+            let prefix = match drive {
+                Some((input, _)) if several => format!("unmodeled_mode({input}, "),
+                _ => "unmodeled_mode(".into(),
+            };
+            let located = Located {
+                name: "mode_frequency".into(),
+                limits: seed.limits,
+                prefix,
+                damping: "mode_damping".into(),
+            };
+            let at = |f: f64| Effect::UnmodeledMode {
+                frequency_hz: f,
+                damping_ratio: zeta.clamp(0.005, 0.15),
+                amplitudes: amplitudes.clone(),
+                driven_by: drive.as_ref().map(|(input, _)| input.clone()),
+            };
+            let mut t = trial(
+                at(f),
+                located.label(f),
+                vec![("mode_frequency".into(), (low, high)), ("mode_damping".into(), (0.0, 0.2))],
+                vec![Strength::Largest(
+                    outputs
+                        .iter()
+                        .map(|o| format!("mode_cos_{o}"))
+                        .chain(outputs.iter().map(|o| format!("mode_sin_{o}")))
+                        .collect(),
+                )],
+                &outputs,
+            )
+            .or_from_other_starts(&seed, at);
+            t.located = Some(located);
+            out.push(t);
+        }
     }
     // Effects the model has are not tried again (a second mode is not offered either).
     out.retain(|t| match &t.effect {

@@ -6,7 +6,9 @@
 //! damping that Rayleigh damping cannot give). Each
 //! record hides one effect, or none; the building's own parameters are
 //! refitted in every candidate. These records were used in development; the held-out study is
-//! `studies/structure` (docs/diagnose.md).
+//! `studies/structure` (docs/diagnose.md). Forced records of the same building are in `forced.rs`.
+
+mod forced;
 
 use discrepancy::{DiagnoseOptions, Verdict, diagnose};
 use models::Model;
@@ -17,16 +19,27 @@ fn run(case: &str) -> discrepancy::Diagnosis {
 
 /// `case`'s record diagnosed with the model file `model` of `fixtures/`.
 fn run_with(model: &str, case: &str) -> discrepancy::Diagnosis {
+    run_in(model, "effects", case)
+}
+
+/// The record `case` of `fixtures/independent/<folder>/` diagnosed with the model file `model` of
+/// `fixtures/` (k1, k2, k3, α, β free).
+fn run_in(model: &str, folder: &str, case: &str) -> discrepancy::Diagnosis {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures");
     let model = Model::load(std::path::Path::new(&format!("{root}/{model}"))).unwrap();
     let data =
-        mem::Measurement::read_csv(std::path::Path::new(&format!("{root}/independent/effects/{case}.csv")))
+        mem::Measurement::read_csv(std::path::Path::new(&format!("{root}/independent/{folder}/{case}.csv")))
             .unwrap();
     diagnose(&model, &data, &DiagnoseOptions::new(&["k1", "k2", "k3", "alpha", "beta"])).unwrap()
 }
 
 fn named(case: &str) -> String {
-    let d = run(case);
+    label(case, run(case))
+}
+
+/// The label `d` names ("none" for nothing), checking that the augmented model then fits
+/// better than the baseline.
+fn label(case: &str, d: discrepancy::Diagnosis) -> String {
     let label = d.named().map_or("none".to_string(), |c| c.label.clone());
     // The augmented model fits better than the baseline whenever something is named.
     if d.named().is_some() {

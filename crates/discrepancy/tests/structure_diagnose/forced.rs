@@ -1,0 +1,52 @@
+//! `diagnose` on forced records of a structure: the shear building of
+//! `fixtures/shear_building_forced_q.ron` (at rest, shaken on the roof by a measured force u,
+//! held between samples) against records made by
+//! `fixtures/independent/shear_building_forced_effects.py` (numpy/scipy, no code shared with
+//! memid; its effects in forms other than the candidates' — a quintic term in the hardening
+//! spring, a tanh friction law, drag with exponent 1.8, a roof appendage as a fourth degree of
+//! freedom driven through the roof; out of the catalog, a one-sided Hertzian stop; a modal damping
+//! that Rayleigh damping cannot give). Each record hides one effect, or none. These records were
+//! used in development; the held-out study is `studies/structure --forced` (docs/diagnose.md).
+
+use super::{label, run_in};
+
+fn run(case: &str) -> discrepancy::Diagnosis {
+    run_in("shear_building_forced_q.ron", "forced", case)
+}
+
+fn named(case: &str) -> String {
+    label(case, run(case))
+}
+
+#[test]
+fn nothing_hidden_in_a_forced_record_is_none() {
+    assert_eq!(named("null"), "none");
+    assert_eq!(named("null_coloured"), "none");
+    assert_eq!(named("modal_damping"), "none");
+}
+
+/// A force at a floor is sized from the model's response to the measured input (from rest its
+/// free decay is zero, and no force would be offered).
+#[test]
+fn forces_in_a_forced_record_are_named_at_their_floor() {
+    assert_eq!(named("cubic_q1"), "cubic_stiffness(q1)");
+    assert_eq!(named("friction_q2"), "coulomb_friction(q2)");
+    assert_eq!(named("drag_q3"), "quadratic_drag(q3)");
+}
+
+/// The appendage is driven through the roof from rest: the mode the catalog offers on a forced
+/// record is the input's response, seeded at a peak of the residual's frequency response.
+#[test]
+fn a_driven_appendage_is_an_unmodeled_mode_near_its_frequency() {
+    let d = run("appendage_q3");
+    let c = d.named().expect("a mode is named");
+    assert!(c.label.starts_with("unmodeled_mode("), "{}", c.label);
+    let f: f64 = c.label["unmodeled_mode(".len()..].trim_end_matches(" Hz)").parse().unwrap();
+    assert!((f / 19.0 - 1.0).abs() < 0.1, "{}", c.label);
+}
+
+#[test]
+fn an_offset_and_a_one_sided_stop_in_a_forced_record() {
+    assert_eq!(named("offset_q3"), "output_offset(q3)");
+    assert_eq!(named("contact_q3"), "none");
+}
