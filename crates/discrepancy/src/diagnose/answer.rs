@@ -360,6 +360,27 @@ pub struct Candidate {
     pub outcome: Option<FitOutcome>,
 }
 
+/// Where two sensor scales fit a record alike (in sample to within
+/// [`SAME_FIT`](super::SAME_FIT), held out within the threshold): the record sees only the ratio
+/// of the two sensors' readings when the model's own parameters that set the response's size are
+/// refitted beside each (with a measured force, every mass and stiffness scaled together scales
+/// every output), and one sensor reading high is the other reading low with the structure moved
+/// to match. The data leave the two accounts equal, so what each asks of the model file decides
+/// (its calibration error and its moves of the file's values, a log-normal prior of width τ on
+/// each: the charge of a named scale's account, step 7) — the Bayesian choice between two models
+/// of equal likelihood.
+#[derive(Clone, Debug, Serialize)]
+pub struct ScaleChoice {
+    /// The scale named.
+    pub named: String,
+    /// What its account asks of the file (nats).
+    pub named_charge: f64,
+    /// The scale that fits alike.
+    pub other: String,
+    /// What that account asks of the file (nats).
+    pub other_charge: f64,
+}
+
 /// The answer of [`super::diagnose`].
 #[derive(Clone, Debug)]
 pub struct Diagnosis {
@@ -387,6 +408,9 @@ pub struct Diagnosis {
     /// For a named sensor scale: the model's parameters (not refitted) that scale that output
     /// alone, so that the data cannot tell the named calibration error from an error in them.
     pub scale_equivalents: Vec<String>,
+    /// For a named sensor scale chosen between two that fit alike: what each asks of the model
+    /// file ([`ScaleChoice`]).
+    pub scale_choice: Option<ScaleChoice>,
     /// For a named effect, or the one they unseated: the model's parameters that, refitted
     /// alone instead, explain the data as well ([`Rival`]).
     pub rivals: Vec<Rival>,

@@ -119,7 +119,7 @@ mod spring;
 
 pub use answer::{
     AddedTerm, Candidate, Departures, Diagnosis, EffectParameter, Evidence, Moved, RIVAL_MARGIN, Rival,
-    SaturationKnee, SpringForm, SpringTerm, StaticPeak, Verdict,
+    SaturationKnee, ScaleChoice, SpringForm, SpringTerm, StaticPeak, Verdict,
 };
 pub use options::{
     DEFAULT_FILE_TOLERANCE, DEFAULT_THRESHOLD, DiagnoseOptions, MIN_MODE_STRUCTURE_EXPLAINED,
@@ -127,6 +127,7 @@ pub use options::{
     min_structure_explained,
 };
 pub use report::DiagnosisReport;
+pub use rivals::SAME_FIT;
 
 pub use residual::{Band, ResidualStructure};
 
@@ -270,8 +271,16 @@ pub fn diagnose_observed(
     let mut static_peak = None;
     let mut fading = None;
     let mut saturation_knee = None;
+    let mut scale_choice = None;
     let chosen = (|| {
-        let i = choose(&candidates, options.threshold)?;
+        let mut i = choose(&candidates, options.threshold)?;
+        // Two sensor scales that fit alike: the one that asks less of the model file.
+        if let Some((j, choice)) =
+            rivals::closer_to_file(&candidates, i, model, &mismatch, tolerance, options.threshold)
+        {
+            i = j;
+            scale_choice = Some(choice);
+        }
         candidates[i].verdict = Verdict::Named;
         // The named effect must predict what is missing at least as well as any stand-in does.
         if named::outpredicted_by(&candidates, i, options.threshold).is_some() {
@@ -346,6 +355,7 @@ pub fn diagnose_observed(
     // they unseated.
     if chosen.is_none_or(|i| candidates[i].kind != EffectKind::SensorScale) {
         scale_equivalents.clear();
+        scale_choice = None;
     }
     // Named first, then by held-out evidence, then in-sample.
     let mut indexed: Vec<(usize, Candidate)> = candidates.into_iter().enumerate().collect();
@@ -370,6 +380,7 @@ pub fn diagnose_observed(
         chosen,
         threshold: options.threshold,
         scale_equivalents,
+        scale_choice,
         rivals,
         spring,
         static_peak,

@@ -3,7 +3,7 @@
 //! for a named sensor scale, how far each account moves the model file's values ([`Account`],
 //! [`Departures`]).
 
-use super::answer::{Departures, Moved};
+use super::answer::{Departures, Moved, ScaleChoice};
 use super::{Candidate, Rival, mismatch, run};
 use mem::Measurement;
 use models::{FitOutcome, Model};
@@ -177,6 +177,51 @@ impl Rivals<'_> {
         found.sort_by(|a, b| b.in_sample.total_cmp(&a.in_sample));
         found
     }
+}
+
+/// The in-sample gap (nats) within which two sensor scales fit alike ([`ScaleChoice`]).
+pub const SAME_FIT: f64 = 1.0;
+
+/// For a chosen sensor scale `i`: the sensor scale among those not told apart from it that fits
+/// alike and asks least of the file ([`ScaleChoice`]), with the choice; `None` when no other
+/// scale fits alike, or a charge is not defined.
+pub(super) fn closer_to_file(
+    candidates: &[Candidate],
+    i: usize,
+    file: &Model,
+    mismatch: &[String],
+    tolerance: f64,
+    threshold: f64,
+) -> Option<(usize, ScaleChoice)> {
+    let chosen = &candidates[i];
+    if chosen.kind != EffectKind::SensorScale {
+        return None;
+    }
+    let charge = |c: &Candidate| Account::of_scale(c, file, mismatch, tolerance).map(|a| a.charge);
+    let alike: Vec<usize> = super::named::not_told_apart(candidates, threshold)
+        .into_iter()
+        .filter(|&j| {
+            j != i
+                && candidates[j].kind == EffectKind::SensorScale
+                && (candidates[j].evidence.in_sample - chosen.evidence.in_sample).abs() < SAME_FIT
+        })
+        .collect();
+    let (j, other_charge) = alike
+        .into_iter()
+        .filter_map(|j| Some((j, charge(&candidates[j])?)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))?;
+    let own = charge(chosen)?;
+    let (named, other, named_charge, other_charge) =
+        if other_charge < own { (j, i, other_charge, own) } else { (i, j, own, other_charge) };
+    Some((
+        named,
+        ScaleChoice {
+            named: candidates[named].label.clone(),
+            named_charge,
+            other: candidates[other].label.clone(),
+            other_charge,
+        },
+    ))
 }
 
 #[cfg(test)]

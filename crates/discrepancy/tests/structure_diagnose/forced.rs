@@ -50,3 +50,17 @@ fn an_offset_and_a_one_sided_stop_in_a_forced_record() {
     assert_eq!(named("offset_q3"), "output_offset(q3)");
     assert_eq!(named("contact_q3"), "none");
 }
+
+/// With the force measured and the masses refitted, a scale error on q1 fits exactly as one on
+/// q3 with the building scaled to match: the scale that asks less of the model file is named,
+/// and the answer says so.
+#[test]
+fn of_two_sensor_scales_that_fit_alike_the_one_that_keeps_the_file_is_named() {
+    let d = run("scale_q1");
+    assert_eq!(d.named().map(|c| c.label.as_str()), Some("sensor_scale(q1)"), "{:?}", d.answer());
+    let choice = d.scale_choice.as_ref().expect("the two scales fit alike");
+    assert_eq!(choice.other, "sensor_scale(q3)");
+    assert!(choice.named_charge < choice.other_charge, "{choice:?}");
+    let scale = d.named().unwrap().parameters[0].value;
+    assert!((scale - 0.05).abs() < 0.01, "{scale}");
+}

@@ -37,6 +37,9 @@ pub struct DiagnosisReport<'a> {
     /// For a named sensor scale: the model's parameters that scale that output alone, which the
     /// data cannot tell from the named calibration error (empty otherwise).
     pub equivalent_parameters: &'a [String],
+    /// For a named sensor scale chosen between two that fit alike: what each account asks of the
+    /// model file ([`super::ScaleChoice`]); absent otherwise.
+    pub scale_choice: Option<&'a super::ScaleChoice>,
     /// For a named effect: the model's parameters that, refitted alone instead, explain the
     /// data as well — mismatches these data do not rule out; for an effect they unseated
     /// ([`super::Verdict::MatchedByMismatch`]), those that explain them as well, to within a nat (empty
@@ -118,6 +121,7 @@ impl Diagnosis {
             candidates: &self.candidates,
             localisation: &self.localisation,
             equivalent_parameters: &self.scale_equivalents,
+            scale_choice: self.scale_choice.as_ref(),
             rival_mismatches: &self.rivals,
             asymmetric_spring: self.spring.as_ref().and_then(|f| f.asymmetric.as_ref()),
             changing_spring: self.spring.as_ref().map(|f| &f.changing),

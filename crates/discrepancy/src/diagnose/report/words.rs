@@ -93,7 +93,21 @@ impl Diagnosis {
                         .map(|i| &self.candidates[i])
                         .filter(|r| r.verdict == Verdict::Outscored)
                     {
-                        if let Some(y) = r.evidence.held_out {
+                        if let Some(choice) = self.scale_choice.as_ref().filter(|s| s.other == r.label) {
+                            out.push(format!(
+                                "{} fits as well (within {:.1} nats held out, {:.1} in sample): the record sees \
+                                 the ratio of the two sensors' readings, the model's own parameters moved to \
+                                 match either, so what each asks of the model file decided ({:.2} nats for \
+                                 {}, {:.2} for {})",
+                                r.label,
+                                r.evidence.held_out.map_or(0.0, |y| (x - y).abs()),
+                                (c.evidence.in_sample - r.evidence.in_sample).abs(),
+                                choice.named_charge,
+                                choice.named,
+                                choice.other_charge,
+                                choice.other
+                            ));
+                        } else if let Some(y) = r.evidence.held_out {
                             out.push(format!(
                                 "{} predicts within {:.1} nats of it (ΔBIC {:.1}, strength {:.1} σ against {:.1}): \
                                  these data barely tell the two apart, and the strength resolved by more standard \
