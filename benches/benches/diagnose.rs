@@ -10,7 +10,10 @@
 //! (`fixtures/independent/effects/slewing_backlash.csv`, decimated to 12.8 Hz) and of the record
 //! with a heavily damped mode the search follows from its seeds (`slewing_damped_mode.csv`), and
 //! of a current clamp in coloured noise, whose saturation trials are refitted from the catalog's
-//! limiter and from a clamp (`slewing_clamp_coloured.csv`).
+//! limiter and from a clamp (`slewing_clamp_coloured.csv`). On a forced record: the peak picking
+//! on the frequency response from the measured force (`discrepancy::frf::resonances`, 2,001
+//! samples, two outputs) and a whole diagnosis of the building shaken on the roof with a driven
+//! appendage (`fixtures/independent/forced/appendage_q3.csv`).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use discrepancy::{DiagnoseOptions, diagnose, quantization};
@@ -110,5 +113,23 @@ fn bench_backlash(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_diagnose, bench_backlash);
+fn bench_forced(c: &mut Criterion) {
+    let model = Model::load(&fixture("shear_building_forced_q.ron")).unwrap();
+    let raw = mem::Measurement::read_csv(&fixture("independent/forced/appendage_q3.csv")).unwrap();
+    let data = models::align(&model, &raw).unwrap();
+    let series = faer::Mat::from_fn(data.n_samples(), data.n_outputs(), |t, o| data.values()[(t, o)]);
+    assert!(!discrepancy::frf::resonances(&data, &series).unwrap().is_empty(), "the building's peaks");
+    let mut group = c.benchmark_group("diagnose");
+    group.sample_size(10);
+    group.bench_function("frf/resonances_forced_2001", |b| {
+        b.iter(|| discrepancy::frf::resonances(black_box(&data), &series))
+    });
+    let options = DiagnoseOptions::new(&["k1", "k2", "k3", "alpha", "beta"]);
+    group.bench_function("diagnose/shear_building_forced_appendage_q3", |b| {
+        b.iter(|| diagnose(black_box(&model), &raw, &options).unwrap())
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench_diagnose, bench_backlash, bench_forced);
 criterion_main!(benches);

@@ -3,10 +3,11 @@
 //! A free decay is a response ERA reads as it is. A forced record's response follows its input,
 //! so its resonances are read from the frequency response from the measured inputs instead: the
 //! H₁ estimate H_oi(f) = S_{u_i y_o}(f) / S_{u_i u_i}(f) (Welch: Hann-windowed segments of a
-//! quarter of the record, half overlapping; Bendat & Piersol, *Random Data*, §9.2), each input
-//! taken alone. Its peaks in the band the inputs excite (their auto-spectrum at least
-//! [`EXCITED`] of its largest) are the resonances, at most [`MAX_PEAKS`], each standing at least
-//! [`PROMINENCE`] times above the band's median, with the damping ratio of its half-power width,
+//! quarter of the record, at most [`MAX_SEGMENT`] samples, half overlapping; Bendat & Piersol,
+//! *Random Data*, §9.2), each input taken alone. Its peaks in the band the inputs excite (their
+//! auto-spectrum at least [`EXCITED`] of its largest) are the resonances, at most [`MAX_PEAKS`],
+//! each standing at least [`PROMINENCE`] times above the band's median, with the damping ratio of
+//! its half-power width,
 //! ζ = (f₂ − f₁)/(2f₀) (the classical peak-picking method; Ewins, *Modal Testing*, §4.3; the
 //! window broadens a light peak, so this is an upper bound, good for a seed). A least-squares
 //! impulse response would serve ERA only inside that band too, and rings at its edge like a
@@ -21,6 +22,10 @@ pub const EXCITED: f64 = 1e-2;
 
 /// How far a peak of the summed |H|² must stand above its median over the excited band.
 pub const PROMINENCE: f64 = 4.0;
+
+/// The longest segment (samples): a long record is averaged over more segments, and the direct
+/// transform's cost stays O(K · MAX_SEGMENT).
+pub const MAX_SEGMENT: usize = 1024;
 
 /// The most peaks returned.
 pub const MAX_PEAKS: usize = 3;
@@ -44,7 +49,7 @@ pub fn resonances(data: &Measurement, series: &Mat<f64>) -> Option<Vec<EraMode>>
         let start = (t * factor).min(end.saturating_sub(1));
         (start..end).map(|r| raw[(r, i)]).sum::<f64>() / (end - start).max(1) as f64
     });
-    let length = k / 4;
+    let length = (k / 4).min(MAX_SEGMENT);
     let bins = length / 2;
     let df = 1.0 / (length as f64 * data.interval());
     let spectra = |column: &dyn Fn(usize) -> f64| segment_spectra(column, k, length);
