@@ -1,4 +1,5 @@
-//! `memid`: tune a slewing-beam model to a measured free decay by the matrix exponential method.
+//! `memid`: tune a state-space model (the slewing rig, or any structure file) to measured records
+//! — free decays or forced responses — by the matrix exponential method.
 //!
 //! Every command reads RON model files and CSV data and writes new files; none overwrites its
 //! inputs. Errors are one line on stderr with exit status 2.
@@ -27,9 +28,9 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Simulate a model's free decay into a CSV file.
+    /// Simulate a model's response (a free decay, or driven by measured inputs) into a CSV file.
     Simulate(commands::simulate::Args),
-    /// Fit parameters of a model to a measured free decay (the MEM).
+    /// Fit parameters of a model to measured records, free decays or forced (the MEM).
     Fit(commands::fit::Args),
     /// Closed-loop frequencies and damping ratios of a model.
     Modal(commands::modal::Args),
