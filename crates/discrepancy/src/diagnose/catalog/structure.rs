@@ -1,7 +1,9 @@
 //! A structure's candidates: sensor offset, scale and drift on every output; dry friction,
 //! drag and a cubic spring at every coordinate of a second-order model; an unmodeled mode
 //! where the residual or the data hold one. Starting values and bounds come from the model's
-//! own stiffness, damping and response (its peak displacement and velocity per coordinate).
+//! own stiffness, damping and response (its peak displacement and velocity per coordinate, in
+//! its free decay or, on a forced record, in its response to the record's inputs; there the mode
+//! is driven by an input, from rest).
 
 use super::{LIGHTLY_DAMPED, Located, Strength, Trial, mode_seeds};
 use crate::localise::Localisation;
@@ -75,8 +77,9 @@ fn peaks(model: &StructureModel, record: Option<&Measurement>) -> Option<Vec<(f6
 }
 
 /// A coordinate's scales, from the model and what drives it: its peak displacement q̂ and rate
-/// v̂ in the model's response ([`peaks`]: to the record's measured inputs, or its own free decay), its diagonal stiffness k_jj, and the viscous force at the peak rate
-/// (at least that of 1 % critical damping).
+/// v̂ in the model's response ([`peaks`]: to the record's measured inputs, or its own free
+/// decay), its diagonal stiffness k_jj, and the viscous force at the peak rate (at least that of
+/// 1 % critical damping).
 pub(in crate::diagnose) struct Scales {
     /// The coordinate's name.
     pub coordinate: String,
