@@ -1,0 +1,87 @@
+//! Whether an effect can act on a model ([`Effect::invalid`]): its target exists there and its
+//! values are possible.
+
+use super::{Effect, Target};
+
+impl Effect {
+    /// Why the effect cannot act on a model with these outputs, coordinates and inputs (`None`
+    /// if it can); `second_order` says whether the coordinates are a second-order model's.
+    pub(crate) fn invalid(
+        &self,
+        outputs: &[String],
+        coordinates: &[String],
+        inputs: &[String],
+        second_order: bool,
+    ) -> Option<String> {
+        let finite = |name: &str, v: f64| (!v.is_finite()).then(|| format!("{name} = {v} is not finite"));
+        let problem = match self.target() {
+            Target::Output(o) if !outputs.iter().any(|n| n == o) => {
+                Some(format!("no output `{o}`; the outputs are {}", outputs.join(", ")))
+            }
+            Target::Coordinate(c) if !second_order => Some(format!(
+                "a force at `{c}` needs a second-order model (its coordinates); this file is first order"
+            )),
+            Target::Coordinate(c) if !coordinates.iter().any(|n| n == c) => {
+                Some(format!("no coordinate `{c}`; the coordinates are {}", coordinates.join(", ")))
+            }
+            _ => None,
+        };
+        problem.or_else(|| self.parameters(outputs).iter().find_map(|(n, v)| finite(n, *v))).or_else(|| {
+            match self {
+                Effect::SensorQuantization { step, .. } if !(step.is_finite() && *step > 0.0) => {
+                    Some(format!("step = {step}: give a positive step"))
+                }
+                Effect::SensorCrosstalk { output, from, .. }
+                    if from == output || !outputs.iter().any(|n| n == from) =>
+                {
+                    Some(format!(
+                        "from = `{from}`: give another output than `{output}`; the outputs are {}",
+                        outputs.join(", ")
+                    ))
+                }
+                Effect::DryFriction { smoothing_velocity: v, .. } if !(v.is_finite() && *v > 0.0) => {
+                    Some(format!("smoothing_velocity = {v}: give a positive velocity"))
+                }
+                Effect::DryFriction { static_peak, stribeck_velocity, .. }
+                    if static_peak.is_some() != stribeck_velocity.is_some() =>
+                {
+                    Some("give `static_peak` and `stribeck_velocity` together (or neither)".into())
+                }
+                Effect::DryFriction { static_peak: Some(p), .. } if *p < 0.0 => {
+                    Some(format!("static_peak = {p}: give a peak ≥ 0"))
+                }
+                Effect::DryFriction { stribeck_velocity: Some(v), .. } if *v <= 0.0 => {
+                    Some(format!("stribeck_velocity = {v}: give a positive velocity"))
+                }
+                Effect::SensorDrift { time_constant: Some(tau), .. } if *tau <= 0.0 => {
+                    Some(format!("time_constant = {tau}: give a positive time constant [s]"))
+                }
+                Effect::Drag { exponent, .. } if *exponent < 1.0 => {
+                    Some(format!("exponent = {exponent}: give an exponent of at least 1"))
+                }
+                Effect::UnmodeledMode { frequency_hz, damping_ratio, amplitudes, driven_by } => {
+                    if *frequency_hz <= 0.0 {
+                        Some(format!("frequency_hz = {frequency_hz}: give a positive frequency"))
+                    } else if *damping_ratio < 0.0 {
+                        Some(format!("damping_ratio = {damping_ratio}: give a ratio ≥ 0"))
+                    } else if amplitudes.len() != outputs.len() {
+                        Some(format!(
+                            "{} amplitude pairs for {} outputs; give one (cos, sin) pair per output",
+                            amplitudes.len(),
+                            outputs.len()
+                        ))
+                    } else {
+                        driven_by.as_ref().filter(|i| !inputs.contains(i)).map(|input| {
+                            if inputs.is_empty() {
+                                format!("driven_by = `{input}`: the model has no inputs; leave it out for a free ringing")
+                            } else {
+                                format!("driven_by = `{input}`: no such input; the inputs are {}", inputs.join(", "))
+                            }
+                        })
+                    }
+                }
+                _ => None,
+            }
+        })
+    }
+}

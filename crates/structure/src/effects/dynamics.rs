@@ -1,0 +1,90 @@
+//! What an effect does to the dynamics: a force's value at a state ([`Effect::force`]) and an
+//! unmodeled mode's two states appended to the linear model ([`append_mode`]).
+
+use super::Effect;
+use mem::Scalar;
+use mem::nalgebra::{DMatrix, DVector};
+
+impl Effect {
+    /// The force f_j at time `t` since the release and a state x = [q; q̇] of `n` coordinates,
+    /// with this effect's parameters `theta` (in the order of [`parameters`](Self::parameters))
+    /// and its coordinate `j`; zero for an effect that is not a force.
+    pub(crate) fn force<D: Scalar>(&self, t: f64, x: &[D], n: usize, j: usize, theta: &[D]) -> D {
+        let (q, v) = (x[j], x[n + j]);
+        match self {
+            Effect::DryFriction { smoothing_velocity, static_peak, .. } => {
+                let vs = D::from(*smoothing_velocity);
+                let level = if static_peak.is_some() {
+                    let r = v / theta[2];
+                    theta[0] + theta[1] * (-(r * r)).exp()
+                } else {
+                    theta[0]
+                };
+                level * v / (v * v + vs * vs).sqrt()
+            }
+            Effect::Drag { .. } => {
+                let (c, e) = (theta[0], theta[1]);
+                if v.re() == 0.0 {
+                    // f = c v |v|^(e−1): zero, with slope c only for a linear law.
+                    if e.re() == 1.0 { c * v } else { v * D::from(0.0) }
+                } else {
+                    c * v * (v * v).powd((e - D::from(1.0)) * D::from(0.5))
+                }
+            }
+            Effect::CubicStiffness { quadratic, quintic, rate, .. } => {
+                let q3 = q * q * q;
+                let mut f = theta[0] * q3;
+                let mut k = 1;
+                if quadratic.is_some() {
+                    f += theta[k] * q * q;
+                    k += 1;
+                }
+                if quintic.is_some() {
+                    f += theta[k] * q3 * q * q;
+                    k += 1;
+                }
+                if rate.is_some() {
+                    f += theta[k] * D::from(t) * q;
+                }
+                f
+            }
+            _ => D::from(0.0),
+        }
+    }
+}
+/// Appends an unmodeled mode's two states to A, C, x(0) and B: `theta` is
+/// (f_e, ζ_e, a_1, b_1, …, a_p, b_p). A free ringing starts from η(0) = 1 and B's new rows are
+/// zero; a mode driven by input `driven_by` starts from rest with ω_e² in η̈'s row of that input.
+pub(crate) fn append_mode<D: Scalar>(space: &mut mem::StateSpace<D>, theta: &[D], driven_by: Option<usize>) {
+    let n = space.a.nrows();
+    let omega = theta[0] * D::from(2.0 * std::f64::consts::PI);
+    let zeta = theta[1];
+    let mut a = DMatrix::from_element(n + 2, n + 2, D::from(0.0));
+    a.view_mut((0, 0), (n, n)).copy_from(&space.a);
+    a[(n, n + 1)] = D::from(1.0);
+    a[(n + 1, n)] = -(omega * omega);
+    a[(n + 1, n + 1)] = -(D::from(2.0) * zeta * omega);
+    let p = space.c.nrows();
+    let mut c = DMatrix::from_element(p, n + 2, D::from(0.0));
+    c.view_mut((0, 0), (p, n)).copy_from(&space.c);
+    for o in 0..p {
+        c[(o, n)] = theta[2 + 2 * o];
+        c[(o, n + 1)] = theta[3 + 2 * o] / omega;
+    }
+    let mut x0 = DVector::from_element(n + 2, D::from(0.0));
+    x0.rows_mut(0, n).copy_from(&space.x0);
+    if driven_by.is_none() {
+        x0[n] = D::from(1.0);
+    }
+    if let Some(b) = &space.b {
+        let mut wide = DMatrix::from_element(n + 2, b.ncols(), D::from(0.0));
+        wide.view_mut((0, 0), (n, b.ncols())).copy_from(b);
+        if let Some(i) = driven_by.filter(|&i| i < b.ncols()) {
+            wide[(n + 1, i)] = omega * omega;
+        }
+        space.b = Some(wide);
+    }
+    space.a = a;
+    space.c = c;
+    space.x0 = x0;
+}
