@@ -199,8 +199,7 @@ mod tests {
         let u: Vec<f64> =
             (0..k).map(|_| rand::Rng::sample::<f64, _>(&mut rng, rand_distr::StandardNormal)).collect();
         let (mut y, mut v) = (0.0, 0.0);
-        let values = Mat::from_fn(k, 2, |t, c| if c == 0 { u[t] } else { 0.0 });
-        let mut values = values;
+        let mut values = Mat::from_fn(k, 2, |t, c| if c == 0 { u[t] } else { 0.0 });
         for t in 0..k {
             values[(t, 1)] = y;
             let (ny, nv) = (

@@ -150,9 +150,11 @@ pub fn localise(data: &Measurement, outcome: &FitOutcome) -> Localisation {
                 o.name, o.whiteness_p
             ));
         }
+        // Where a forced record's residual lies follows where the input drives it.
         if driven {
-            // Where a forced record's residual lies follows where the input drives it.
-        } else if o.early_to_late > 3.0 {
+            continue;
+        }
+        if o.early_to_late > 3.0 {
             findings.push(format!(
                 "the `{}` residual is {:.1}× larger early in the record than late (amplitude-dependent)",
                 o.name, o.early_to_late

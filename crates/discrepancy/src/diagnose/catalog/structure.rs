@@ -28,9 +28,11 @@ pub(super) fn kind(effect: &Effect) -> EffectKind {
 }
 
 /// Peak |q_j| and |q̇_j| of the model's response: to the measured inputs of `record` over its
-/// whole length where it has them (held between samples, from the model's initial state),
-/// else of its free decay over two periods of its lowest mode. The exponential of A (of
-/// [[A, B], [0, 0]] with inputs) over one step is applied step by step.
+/// whole length where it has them (held between samples as the record says, from the model's
+/// initial state: x_{k+1} = Φx_k + Γ_now u_k + Γ_next u_{k+1}, the gains of
+/// [`expm::step_gains`], Γ_now + Γ_next applied to u_k for a zero-order hold), else of its free
+/// decay over two periods of its lowest mode (Φ = e^{Ah} over a short step). One exponential per
+/// call; the state is stepped in two buffers.
 fn peaks(model: &StructureModel, record: Option<&Measurement>) -> Option<Vec<(f64, f64)>> {
     if !model.is_second_order() {
         return None;
@@ -38,9 +40,19 @@ fn peaks(model: &StructureModel, record: Option<&Measurement>) -> Option<Vec<(f6
     let n = model.coordinates().len();
     let space = model.state_space::<f64>(&model.values()).ok()?;
     let big = space.a.nrows();
-    let inputs = record.and_then(|r| Some((r.inputs()?, r.model_grid().1))).zip(space.b.as_ref());
-    let (h, steps, u) = match inputs {
-        Some(((inputs, h), b)) => (h, inputs.values().nrows(), Some((inputs.values(), b))),
+    let a = Mat::from_fn(big, big, |r, c| space.a[(r, c)]);
+    let forced = record.and_then(|r| Some((r.inputs()?, r.model_grid().1))).zip(space.b.as_ref());
+    // Φ, and for a forced record the input gains applied to u_k and to u_{k+1}.
+    let (phi, gains, steps) = match forced {
+        Some(((inputs, h), b)) => {
+            let b = Mat::from_fn(big, b.ncols(), |r, c| b[(r, c)]);
+            let g = expm::step_gains(a.as_ref(), &[], b.as_ref(), &[], h).ok()?;
+            let (now, next) = match inputs.hold() {
+                mem::Hold::Zero => (&g.now + &g.next, None),
+                mem::Hold::FirstOrder => (g.now, Some(g.next)),
+            };
+            (g.phi, Some((inputs.values(), now, next)), inputs.values().nrows())
+        }
         None => {
             let modes = model.modes().ok()?;
             let (low, high) = (modes.first()?.frequency_hz, modes.last()?.frequency_hz);
@@ -48,30 +60,28 @@ fn peaks(model: &StructureModel, record: Option<&Measurement>) -> Option<Vec<(f6
                 return None;
             }
             let h = 1.0 / (20.0 * high);
-            (h, ((2.0 / low) / h).ceil().min(1e5) as usize, None)
+            (expm::expm((&a * h).as_ref()).ok()?, None, ((2.0 / low) / h).ceil().min(1e5) as usize)
         }
     };
-    // [[Φ, Γ], [0, I]] = exp([[A, B], [0, 0]] h): Γ is the zero-order hold's input gain.
-    let m = u.map_or(0, |(_, b)| b.ncols());
-    let augmented = Mat::from_fn(big + m, big + m, |r, c| match (r < big, c < big) {
-        (true, true) => space.a[(r, c)] * h,
-        (true, false) => u.map_or(0.0, |(_, b)| b[(r, c - big)] * h),
-        _ => 0.0,
-    });
-    let phi = expm::expm(augmented.as_ref()).ok()?;
     let mut x: Vec<f64> = space.x0.iter().copied().collect();
+    let mut following = vec![0.0; big];
     let mut peak = vec![(0.0f64, 0.0f64); n];
     for k in 0..steps {
         for (j, p) in peak.iter_mut().enumerate() {
             p.0 = p.0.max(x[j].abs());
             p.1 = p.1.max(x[n + j].abs());
         }
-        x = (0..big)
-            .map(|r| {
-                let free: f64 = (0..big).map(|c| phi[(r, c)] * x[c]).sum();
-                free + u.map_or(0.0, |(values, _)| (0..m).map(|i| phi[(r, big + i)] * values[(k, i)]).sum())
-            })
-            .collect();
+        for (r, out) in following.iter_mut().enumerate() {
+            *out = (0..big).map(|c| phi[(r, c)] * x[c]).sum();
+            if let Some((u, now, next)) = &gains {
+                let later = (k + 1).min(u.nrows() - 1);
+                for i in 0..u.ncols() {
+                    *out +=
+                        now[(r, i)] * u[(k, i)] + next.as_ref().map_or(0.0, |g| g[(r, i)] * u[(later, i)]);
+                }
+            }
+        }
+        std::mem::swap(&mut x, &mut following);
     }
     peak.iter().all(|(q, v)| q.is_finite() && v.is_finite()).then_some(peak)
 }
