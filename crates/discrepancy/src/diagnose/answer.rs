@@ -325,6 +325,11 @@ pub enum Verdict {
     /// is missing is accounted for better than by this effect, and what accounts for it better
     /// only stands in for it — physics outside the catalog, so nothing is named.
     Outpredicted,
+    /// An effect acting through the dynamics, on a forced record whose recorded force is noisy,
+    /// that removes less of the residual than [`super::FORCE_NOISE_SHARE`] of what the force's
+    /// noise puts there ([`crate::frf::InputNoise`]): it may only take up the model's response to
+    /// that noise, so nothing is named for it.
+    WithinForceNoise,
     /// A lattice that is not there, or a step far below the noise.
     NoLattice,
     /// The refit failed (the message says why).
@@ -411,6 +416,9 @@ pub struct Diagnosis {
     /// For a named sensor scale chosen between two that fit alike: what each asks of the model
     /// file ([`ScaleChoice`]).
     pub scale_choice: Option<ScaleChoice>,
+    /// On a forced record, the noise estimated on its recorded inputs and what it accounts for
+    /// in the best-fitting residual ([`crate::frf::input_noise`]).
+    pub force_noise: Option<crate::frf::InputNoise>,
     /// For a named effect, or the one they unseated: the model's parameters that, refitted
     /// alone instead, explain the data as well ([`Rival`]).
     pub rivals: Vec<Rival>,

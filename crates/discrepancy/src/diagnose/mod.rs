@@ -62,6 +62,15 @@
 //!    outside the catalog that a symmetric cubic would otherwise stand in for; the quintic
 //!    takes up what a symmetric spring of another form leaves, so that only asymmetry, or
 //!    change with time, is left for the term.
+//! 9. on a forced record, an effect that acts through the dynamics (not a sensor's) removes at
+//!    least [`FORCE_NOISE_SHARE`] (half) of what the noise on the recorded force accounts for
+//!    in the residual its own refit leaves ([`Verdict::WithinForceNoise`], module
+//!    `force_noise`; the noise is read from the residual's spectra, [`crate::frf::input_noise`]).
+//!    The model is driven by the recorded force, noise and all, and a dry friction or a drag at
+//!    the driven floor damps the small, quick response to that noise more than the large one to
+//!    the force: it gains on a record with nothing missing but a clean force. A missing effect
+//!    removes what it put there itself; a stand-in for the noise removes part of what the noise
+//!    put there and leaves the rest.
 //!
 //! A named dry friction on the slewing rig is first set against a servo whose stiffness falls
 //! with time: refitted with −k₁′·t·θ at the hub beside it (the hub spring's rate, module
@@ -102,6 +111,7 @@ mod answer;
 pub mod catalog;
 mod crosstalk;
 pub mod evidence;
+mod force_noise;
 mod friction;
 mod lag;
 mod mismatch;
@@ -121,6 +131,7 @@ pub use answer::{
     AddedTerm, Candidate, Departures, Diagnosis, EffectParameter, Evidence, Moved, RIVAL_MARGIN, Rival,
     SaturationKnee, ScaleChoice, SpringForm, SpringTerm, StaticPeak, Verdict,
 };
+pub use force_noise::FORCE_NOISE_SHARE;
 pub use options::{
     DEFAULT_FILE_TOLERANCE, DEFAULT_THRESHOLD, DiagnoseOptions, MIN_MODE_STRUCTURE_EXPLAINED,
     MIN_SENSOR_STRUCTURE_EXPLAINED, MIN_SPRING_STRUCTURE_EXPLAINED, MIN_STRUCTURE_EXPLAINED,
@@ -252,6 +263,9 @@ pub fn diagnose_observed(
         observer,
     }
     .score(&trials);
+    // On a forced record, an effect acting through the dynamics must remove more than the
+    // recorded force's noise could let it take up.
+    let force_noise = force_noise::screen(&mut candidates, &trials, &reference.outcome, &data);
     let likelihoods = |outcome: &FitOutcome| noise.log_likelihoods(&outcome.first().residual(), None);
     let mismatch_gain = evidence::gain(&reference_likelihoods, &likelihoods(&baseline.outcome));
     // Quantization: a lattice in the raw readings.
@@ -381,6 +395,7 @@ pub fn diagnose_observed(
         threshold: options.threshold,
         scale_equivalents,
         scale_choice,
+        force_noise,
         rivals,
         spring,
         static_peak,

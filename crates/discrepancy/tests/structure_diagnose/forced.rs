@@ -64,3 +64,27 @@ fn of_two_sensor_scales_that_fit_alike_the_one_that_keeps_the_file_is_named() {
     let scale = d.named().unwrap().parameters[0].value;
     assert!((scale - 0.05).abs() < 0.01, "{scale}");
 }
+
+/// The recorded force carries white noise of 2 % of its RMS, the building nothing hidden: the
+/// model responds to that noise too, and a dry friction at the driven floor, damping that small
+/// quick response more than the large one, gained enough to be named (before the screen). Now
+/// the noise is read from the residual, to within a quarter of 2 % (`force_noise`), and no
+/// effect that removes less than half of what it accounts for is named. The same noisy record
+/// of a building with a dry friction at floor 2 still names it there.
+#[test]
+fn noise_on_the_recorded_force_is_estimated_and_no_effect_is_named_for_it() {
+    let d = run("null_noisy_force");
+    assert_eq!(d.effect(), "none", "{:?}", d.answer());
+    let noise = d.force_noise.as_ref().expect("a forced record");
+    let share = noise.inputs[0].share;
+    assert!((0.015..0.025).contains(&share), "σ/RMS(u) = {share}");
+    assert!(
+        d.candidates.iter().any(|c| c.verdict == discrepancy::Verdict::WithinForceNoise),
+        "{:?}",
+        d.candidates.iter().map(|c| (&c.label, &c.verdict)).collect::<Vec<_>>()
+    );
+    assert_eq!(named("friction_q2_noisy_force"), "coulomb_friction(q2)");
+    // A clean force record shows (almost) none.
+    let clean = run("friction_q2");
+    assert!(clean.force_noise.as_ref().expect("a forced record").inputs[0].share < 0.005);
+}

@@ -40,6 +40,9 @@ pub struct DiagnosisReport<'a> {
     /// For a named sensor scale chosen between two that fit alike: what each account asks of the
     /// model file ([`super::ScaleChoice`]); absent otherwise.
     pub scale_choice: Option<&'a super::ScaleChoice>,
+    /// On a forced record: the noise estimated on its recorded inputs, and the share of the
+    /// best-fitting residual it accounts for ([`crate::frf::InputNoise`]); absent otherwise.
+    pub force_noise: Option<&'a crate::frf::InputNoise>,
     /// For a named effect: the model's parameters that, refitted alone instead, explain the
     /// data as well — mismatches these data do not rule out; for an effect they unseated
     /// ([`super::Verdict::MatchedByMismatch`]), those that explain them as well, to within a nat (empty
@@ -74,8 +77,29 @@ impl Diagnosis {
     /// The answer in words.
     pub fn answer(&self) -> Vec<String> {
         let mut out = self.verdict_sentences();
+        out.extend(self.force_noise_sentence());
         out.extend(self.glitch_sentence());
         out
+    }
+
+    /// The noise estimated on a forced record's recorded inputs, in words (`None` for a free
+    /// decay, or where none is seen).
+    fn force_noise_sentence(&self) -> Option<String> {
+        let noise = self.force_noise.as_ref().filter(|n| n.inputs.iter().any(|i| i.rms > 0.0))?;
+        let levels: Vec<String> = noise
+            .inputs
+            .iter()
+            .map(|i| format!("`{}` about {:.3e} ({:.2} % of its RMS)", i.input, i.rms, 100.0 * i.share))
+            .collect();
+        Some(format!(
+            "noise on the recorded input{}: {}; it accounts for {:.0} % of the best-fitting residual, and an \
+             effect acting through the dynamics must remove at least {:.0} % of what it accounts for in the \
+             residual its refit leaves",
+            if levels.len() == 1 { "" } else { "s" },
+            levels.join(", "),
+            100.0 * noise.share,
+            100.0 * super::FORCE_NOISE_SHARE
+        ))
     }
 
     /// The readings set aside as glitches, in words (`None` if there were none).
@@ -122,6 +146,7 @@ impl Diagnosis {
             localisation: &self.localisation,
             equivalent_parameters: &self.scale_equivalents,
             scale_choice: self.scale_choice.as_ref(),
+            force_noise: self.force_noise.as_ref(),
             rival_mismatches: &self.rivals,
             asymmetric_spring: self.spring.as_ref().and_then(|f| f.asymmetric.as_ref()),
             changing_spring: self.spring.as_ref().map(|f| &f.changing),

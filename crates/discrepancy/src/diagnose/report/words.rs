@@ -153,6 +153,12 @@ impl Diagnosis {
                         best.label,
                         match &best.verdict {
                             Verdict::NotPredictive => "not predictive on held-out blocks".to_string(),
+                            Verdict::WithinForceNoise => format!(
+                                "predictive on held-out blocks, but it removes less than {:.0} % of what the \
+                                 noise on the recorded force accounts for in the residual it leaves: it may only \
+                                 take up the model's response to that noise",
+                                100.0 * super::super::FORCE_NOISE_SHARE
+                            ),
                             Verdict::Superficial => format!(
                                 "predictive on held-out blocks but it removes only {:.0} % of the residual's \
                                  structure: a stand-in, not the missing physics",

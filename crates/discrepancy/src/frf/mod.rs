@@ -13,6 +13,11 @@
 //! impulse response would serve ERA only inside that band too, and rings at its edge like a
 //! lightly damped mode (tried: ERA then seeded "modes" at a swept sine's last frequency).
 
+mod input_noise;
+mod spectra;
+
+pub use input_noise::{InputNoise, InputNoiseLevel, input_noise};
+
 use era::EraMode;
 use faer::Mat;
 use mem::Measurement;
@@ -42,17 +47,11 @@ pub fn resonances(data: &Measurement, series: &Mat<f64>) -> Option<Vec<EraMode>>
     if m == 0 || k < 64 {
         return None;
     }
-    let factor = data.decimation().map_or(1, |d| d.factor());
-    let raw = inputs.values();
-    let held = Mat::from_fn(k, m, |t, i| {
-        let end = ((t + 1) * factor).min(raw.nrows());
-        let start = (t * factor).min(end.saturating_sub(1));
-        (start..end).map(|r| raw[(r, i)]).sum::<f64>() / (end - start).max(1) as f64
-    });
+    let held = spectra::held_inputs(data, k)?;
     let length = (k / 4).min(MAX_SEGMENT);
     let bins = length / 2;
     let df = 1.0 / (length as f64 * data.interval());
-    let spectra = |column: &dyn Fn(usize) -> f64| segment_spectra(column, k, length);
+    let spectra = |column: &dyn Fn(usize) -> f64| spectra::segments(column, k, length);
     let inputs_spectra: Vec<Vec<Vec<(f64, f64)>>> = (0..m).map(|i| spectra(&|t| held[(t, i)])).collect();
     let outputs_spectra: Vec<Vec<Vec<(f64, f64)>>> = (0..p).map(|o| spectra(&|t| series[(t, o)])).collect();
     let mut sum = vec![0.0; bins];
@@ -131,53 +130,17 @@ fn half_power_width(power: &[f64], b: usize) -> f64 {
     crossing(-1) + crossing(1)
 }
 
-/// The discrete Fourier transforms (re, im) at bins 0 … length/2 − 1 of each Hann-windowed,
-/// half-overlapping segment of `length` samples of the series `x` (K samples), its mean removed.
-fn segment_spectra(x: &dyn Fn(usize) -> f64, k: usize, length: usize) -> Vec<Vec<(f64, f64)>> {
-    let mean = (0..k).map(x).sum::<f64>() / k as f64;
-    let hop = (length / 2).max(1);
-    let window: Vec<f64> = (0..length)
-        .map(|n| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * n as f64 / length as f64).cos())
-        .collect();
-    let (cos, sin): (Vec<f64>, Vec<f64>) = (0..length)
-        .map(|n| {
-            let a = 2.0 * std::f64::consts::PI * n as f64 / length as f64;
-            (a.cos(), a.sin())
-        })
-        .unzip();
-    (0..)
-        .map(|s| s * hop)
-        .take_while(|start| start + length <= k)
-        .map(|start| {
-            let w: Vec<f64> = (0..length).map(|n| window[n] * (x(start + n) - mean)).collect();
-            (0..length / 2)
-                .map(|b| {
-                    w.iter().enumerate().fold((0.0, 0.0), |(re, im), (n, v)| {
-                        let at = (b * n) % length;
-                        (re + v * cos[at], im - v * sin[at])
-                    })
-                })
-                .collect()
-        })
-        .collect()
-}
-
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::resonances;
     use faer::Mat;
     use mem::{Hold, Measurement};
 
-    /// A single oscillator ÿ + 2ζω ẏ + ω² y = u, driven by a seeded broadband force and
-    /// integrated exactly between samples (zero-order hold) by its own one-step map, has its one
-    /// peak at its frequency to the spectrum's resolution, with a damping ratio no smaller than
-    /// its own (the Hann window only broadens a peak) and within 2× of it.
-    #[test]
-    fn a_driven_oscillator_peaks_at_its_frequency_and_damping() {
-        let (f, zeta, h, k) = (12.5, 0.02, 0.005, 4000);
+    /// The response y of ÿ + 2ζω ẏ + ω² y = u (f Hz, sampled every h s) to the zero-order-held
+    /// input u from rest, by the exact one-step map of [y, ẏ] (a 20-term Taylor series of the
+    /// augmented matrix's exponential, accurate to round-off at ωh ≈ 0.4).
+    pub(super) fn driven_oscillator(f: f64, zeta: f64, h: f64, u: &[f64]) -> Vec<f64> {
         let w = 2.0 * std::f64::consts::PI * f;
-        // The exact one-step map of [y, ẏ] for a held input, by a 20-term Taylor series of the
-        // augmented matrix's exponential (accurate to round-off at ωh ≈ 0.4).
         let a = [[0.0, 1.0, 0.0], [-w * w, -2.0 * zeta * w, 1.0], [0.0, 0.0, 0.0]];
         let mut phi = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
         let mut term = phi;
@@ -195,23 +158,43 @@ mod tests {
                 }
             }
         }
-        let mut rng = test_problems::rng(7);
-        let u: Vec<f64> =
-            (0..k).map(|_| rand::Rng::sample::<f64, _>(&mut rng, rand_distr::StandardNormal)).collect();
         let (mut y, mut v) = (0.0, 0.0);
-        let mut values = Mat::from_fn(k, 2, |t, c| if c == 0 { u[t] } else { 0.0 });
-        for t in 0..k {
-            values[(t, 1)] = y;
-            let (ny, nv) = (
-                phi[0][0] * y + phi[0][1] * v + phi[0][2] * u[t],
-                phi[1][0] * y + phi[1][1] * v + phi[1][2] * u[t],
-            );
-            (y, v) = (ny, nv);
-        }
-        let data = Measurement::new(vec!["u".into(), "y".into()], 0.0, h, values)
+        u.iter()
+            .map(|&uk| {
+                let out = y;
+                (y, v) = (
+                    phi[0][0] * y + phi[0][1] * v + phi[0][2] * uk,
+                    phi[1][0] * y + phi[1][1] * v + phi[1][2] * uk,
+                );
+                out
+            })
+            .collect()
+    }
+
+    /// A record of one output `y` driven by one input `u`, held between samples every h s.
+    pub(super) fn forced_record(u: &[f64], y: &[f64], h: f64) -> Measurement {
+        let values = Mat::from_fn(u.len(), 2, |t, c| if c == 0 { u[t] } else { y[t] });
+        Measurement::new(vec!["u".into(), "y".into()], 0.0, h, values)
             .unwrap()
             .with_inputs(&["u"], Hold::Zero)
-            .unwrap();
+            .unwrap()
+    }
+
+    /// `n` seeded standard normals.
+    pub(super) fn normals(seed: u64, n: usize) -> Vec<f64> {
+        let mut rng = test_problems::rng(seed);
+        (0..n).map(|_| rand::Rng::sample::<f64, _>(&mut rng, rand_distr::StandardNormal)).collect()
+    }
+
+    /// A single oscillator driven by a seeded broadband force has its one peak at its frequency
+    /// to the spectrum's resolution, with a damping ratio no smaller than its own (the Hann
+    /// window only broadens a peak) and within 2× of it.
+    #[test]
+    fn a_driven_oscillator_peaks_at_its_frequency_and_damping() {
+        let (f, zeta, h, k) = (12.5, 0.02, 0.005, 4000);
+        let u = normals(7, k);
+        let y = driven_oscillator(f, zeta, h, &u);
+        let data = forced_record(&u, &y, h);
         let series = Mat::from_fn(k, 1, |t, _| data.values()[(t, 0)]);
         let peaks = resonances(&data, &series).unwrap();
         let df = 1.0 / ((k / 4) as f64 * h);
