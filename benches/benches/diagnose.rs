@@ -124,6 +124,13 @@ fn bench_forced(c: &mut Criterion) {
     group.bench_function("frf/resonances_forced_2001", |b| {
         b.iter(|| discrepancy::frf::resonances(black_box(&data), &series))
     });
+    // The force's noise read from a residual (once per diagnosis and once per candidate that
+    // acts through the dynamics); its cost does not depend on the values, so the record stands
+    // for both the simulation and the residual.
+    assert!(discrepancy::frf::input_noise(&data, &series, &series).is_some());
+    group.bench_function("frf/input_noise_forced_2001", |b| {
+        b.iter(|| discrepancy::frf::input_noise(black_box(&data), &series, &series))
+    });
     let options = DiagnoseOptions::new(&["k1", "k2", "k3", "alpha", "beta"]);
     group.bench_function("diagnose/shear_building_forced_appendage_q3", |b| {
         b.iter(|| diagnose(black_box(&model), &raw, &options).unwrap())

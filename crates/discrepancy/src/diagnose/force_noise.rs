@@ -16,8 +16,8 @@
 //! The share was set on two development draws of `studies/structure --forced`, with 1 % and
 //! 2 % noise on the recorded force (docs/diagnose.md, "Noise on the recorded force"): the
 //! frictions, drags and springs named on their nulls removed 0.01–0.48 of what the noise
-//! accounts for, the catalog effects named right, 0.41 and 0.81 at the least (two weak drags)
-//! and above 1 otherwise.
+//! accounts for; the catalog effects named right removed above 1, but for two weak drags (0.81,
+//! kept, and 0.41, lost).
 
 use super::catalog::Trial;
 use super::{Candidate, Verdict};
