@@ -8,7 +8,8 @@
 //! response from input i squared, scaled by the variance β_i = σ_i² of that input's noise
 //! (Pintelon & Schoukens, *System Identification: A Frequency Domain Approach*, 2nd ed., 2012,
 //! §7.2). G_oi is read from the fitted model's own simulated response by H₁ (its Welch estimate
-//! from the recorded input: exact but for leakage, since the simulation holds no noise), and
+//! from the recorded inputs, solved jointly where several are excited so that correlated inputs
+//! are kept apart: exact but for leakage, since the simulation holds no noise), and
 //! (a_o, β_i) are fitted to the residual's Welch auto-spectra in the band the inputs excite by
 //! Whittle's likelihood (iteratively reweighted least squares, each bin weighted by the inverse
 //! square of its fitted level; Whittle 1953), every one of them held ≥ 0.
@@ -74,28 +75,29 @@ pub fn input_noise(data: &Measurement, simulated: &Mat<f64>, residual: &Mat<f64>
         return None;
     }
     let suu: Vec<Vec<f64>> = inputs.iter().map(|u| (0..bins).map(|b| auto(u, b)).collect()).collect();
-    let excited: Vec<usize> = (1..bins)
-        .filter(|&b| {
-            suu.iter().any(|s| {
-                let largest = s.iter().copied().fold(0.0, f64::max);
-                largest > 0.0 && s[b] >= EXCITED * largest
-            })
-        })
-        .collect();
+    let largest: Vec<f64> = suu.iter().map(|s| s.iter().copied().fold(0.0, f64::max)).collect();
+    let excited_by =
+        |i: usize, b: usize| largest[i] > 0.0 && suu[i][b] > 0.0 && suu[i][b] >= EXCITED * largest[i];
+    let excited: Vec<usize> = (1..bins).filter(|&b| (0..m).any(|i| excited_by(i, b))).collect();
     if excited.len() < 5 {
         return None;
     }
-    // |G_oi(f)|² by H₁ from the simulation; 0 where input i is not excited.
-    let gain = |o: usize, i: usize, b: usize| -> f64 {
-        let largest = suu[i].iter().copied().fold(0.0, f64::max);
-        if suu[i][b] < EXCITED * largest || suu[i][b] <= 0.0 {
-            return 0.0;
+    // |G_oi(f)|² per output, bin and input, by H₁ from the simulation over the inputs excited
+    // at that bin (0 for the others).
+    let gains: Vec<Vec<Vec<f64>>> = {
+        let mut gains = vec![vec![vec![0.0; m]; bins]; p];
+        for &b in &excited {
+            let active: Vec<usize> = (0..m).filter(|&i| excited_by(i, b)).collect();
+            for (o, per_output) in gains.iter_mut().enumerate() {
+                let response = frequency_response(&inputs, &outputs[o], &active, b);
+                for (&i, h) in active.iter().zip(response) {
+                    per_output[b][i] = h;
+                }
+            }
         }
-        let (re, im) = inputs[i].iter().zip(&outputs[o]).fold((0.0, 0.0), |(re, im), (u, y)| {
-            (re + u[b].0 * y[b].0 + u[b].1 * y[b].1, im + u[b].0 * y[b].1 - u[b].1 * y[b].0)
-        });
-        (re * re + im * im) / (suu[i][b] * suu[i][b])
+        gains
     };
+    let gain = |o: usize, i: usize, b: usize| gains[o][b][i];
     // One row per (output, excited bin): P = W a_o + Σ_i β_i W |G_oi|², P the mean |R|².
     let rows: Vec<(usize, usize)> = (0..p).flat_map(|o| excited.iter().map(move |&b| (o, b))).collect();
     let level: Vec<f64> = rows.iter().map(|&(o, b)| auto(&residuals[o], b) / segments).collect();
@@ -123,6 +125,46 @@ pub fn input_noise(data: &Measurement, simulated: &Mat<f64>, residual: &Mat<f64>
         residual_power,
         share: if total > 0.0 { (residual_power / total).min(1.0) } else { 0.0 },
     })
+}
+
+/// Σ over segments of conj(A) B at bin `b`.
+fn cross(a: &[Vec<(f64, f64)>], c: &[Vec<(f64, f64)>], b: usize) -> (f64, f64) {
+    a.iter().zip(c).fold((0.0, 0.0), |(re, im), (a, c)| {
+        (re + a[b].0 * c[b].0 + a[b].1 * c[b].1, im + a[b].0 * c[b].1 - a[b].1 * c[b].0)
+    })
+}
+
+/// |H_i(f_b)|² for the `active` inputs from one output's segments `y`: H₁ of several inputs,
+/// the least-squares solution of Σ_j S_{u_i u_j} H_j = S_{u_i y} over the segments (Bendat &
+/// Piersol, *Random Data*, §7.2), which keeps apart inputs that are correlated; for one input
+/// S_{uy}/S_{uu}. The complex system is solved as its real form
+/// [[Re S, −Im S], [Im S, Re S]] [Re H; Im H] = [Re s; Im s].
+fn frequency_response(
+    u: &[Vec<Vec<(f64, f64)>>],
+    y: &[Vec<(f64, f64)>],
+    active: &[usize],
+    b: usize,
+) -> Vec<f64> {
+    let n = active.len();
+    if n == 1 {
+        let (re, im) = cross(&u[active[0]], y, b);
+        let suu: f64 = u[active[0]].iter().map(|x| x[b].0.powi(2) + x[b].1.powi(2)).sum();
+        return vec![(re * re + im * im) / (suu * suu)];
+    }
+    let s: Vec<Vec<(f64, f64)>> =
+        active.iter().map(|&i| active.iter().map(|&j| cross(&u[i], &u[j], b)).collect()).collect();
+    let q: Vec<(f64, f64)> = active.iter().map(|&i| cross(&u[i], y, b)).collect();
+    let a = Mat::from_fn(2 * n, 2 * n, |r, c| {
+        let (re, im) = s[r % n][c % n];
+        match (r < n, c < n) {
+            (true, true) | (false, false) => re,
+            (true, false) => -im,
+            (false, true) => im,
+        }
+    });
+    let rhs = Mat::from_fn(2 * n, 1, |r, _| if r < n { q[r].0 } else { q[r - n].1 });
+    let h = a.qr().solve_lstsq(&rhs);
+    (0..n).map(|i| h[(i, 0)].powi(2) + h[(n + i, 0)].powi(2)).collect()
 }
 
 /// θ ≥ 0 maximising Whittle's likelihood of the levels P_r (mean periodograms, each a scaled
@@ -206,5 +248,58 @@ mod tests {
         let (share, of_residual) = estimated(0.0);
         assert!(share < 0.005, "σ/RMS(u) = {share} on a clean record");
         assert!(of_residual < 0.05, "{of_residual}");
+    }
+
+    /// Two correlated forces (u₂ = 0.6 u₁ + 0.8 n), each driving its own oscillator read by
+    /// its own sensor, recorded with 5 % and 2 % noise: each input's noise is read to within a
+    /// fifth. H₁ of each input alone would credit output 1 with a response to u₂ (through u₂'s
+    /// correlation with u₁) and mix the two noises.
+    #[test]
+    fn the_noises_on_two_correlated_recorded_forces_are_told_apart() {
+        let (h, k) = (0.005, 4000);
+        let u1 = normals(21, k);
+        let u2: Vec<f64> = u1.iter().zip(normals(22, k)).map(|(a, n)| 0.6 * a + 0.8 * n).collect();
+        let (sigma1, sigma2) = (0.05, 0.02);
+        let r1: Vec<f64> = u1.iter().zip(normals(23, k)).map(|(u, n)| u + sigma1 * n).collect();
+        let r2: Vec<f64> = u2.iter().zip(normals(24, k)).map(|(u, n)| u + sigma2 * n).collect();
+        let (f1, f2, zeta) = (12.5, 31.0, 0.02);
+        let clean = [driven_oscillator(f1, zeta, h, &u1), driven_oscillator(f2, zeta, h, &u2)];
+        let simulated = [driven_oscillator(f1, zeta, h, &r1), driven_oscillator(f2, zeta, h, &r2)];
+        let sensors = [normals(25, k), normals(26, k)];
+        let y: Vec<Vec<f64>> = (0..2)
+            .map(|o| {
+                let rms = (clean[o].iter().map(|y| y * y).sum::<f64>() / k as f64).sqrt();
+                clean[o].iter().zip(&sensors[o]).map(|(y, v)| y + 0.01 * rms * v).collect()
+            })
+            .collect();
+        let values = Mat::from_fn(k, 4, |t, c| match c {
+            0 => r1[t],
+            1 => r2[t],
+            _ => y[c - 2][t],
+        });
+        let data =
+            mem::Measurement::new(vec!["u1".into(), "u2".into(), "y1".into(), "y2".into()], 0.0, h, values)
+                .unwrap()
+                .with_inputs(&["u1", "u2"], mem::Hold::Zero)
+                .unwrap();
+        let noise = input_noise(
+            &data,
+            &Mat::from_fn(k, 2, |t, o| simulated[o][t]),
+            &Mat::from_fn(k, 2, |t, o| y[o][t] - simulated[o][t]),
+        )
+        .unwrap();
+        let rms = |u: &[f64]| (u.iter().map(|x| x * x).sum::<f64>() / k as f64).sqrt();
+        let read = [noise.inputs[0].rms, noise.inputs[1].rms];
+        let truth = [sigma1, sigma2];
+        for i in 0..2 {
+            assert!(
+                (read[i] / truth[i] - 1.0).abs() < 0.2,
+                "input {i}: read {}, put {} ({:?})",
+                read[i],
+                truth[i],
+                noise.inputs
+            );
+        }
+        assert!((noise.inputs[1].share - read[1] / rms(&r2)).abs() < 1e-12);
     }
 }
