@@ -302,4 +302,45 @@ mod tests {
         }
         assert!((noise.inputs[1].share - read[1] / rms(&r2)).abs() < 1e-12);
     }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(48))]
+        /// Any record — short or long, one or two inputs and outputs, values from 10⁻¹² to 10¹²,
+        /// an input that is all zeros, a residual that is exactly zero — gives either no estimate
+        /// or finite levels ≥ 0 and a share in [0, 1]; never a panic or a NaN.
+        #[test]
+        fn any_record_gives_finite_levels_or_none(
+            k in 64usize..600,
+            p in 1usize..3,
+            m in 1usize..3,
+            seed in 0u64..10_000,
+            exponent in -12i32..12,
+            silent_input in proptest::bool::ANY,
+            perfect in proptest::bool::ANY,
+        ) {
+            let scale = 10f64.powi(exponent);
+            let draw = |s: u64| normals(seed * 8 + s, k);
+            let inputs: Vec<Vec<f64>> = (0..m as u64)
+                .map(|i| if silent_input && i == 0 { vec![0.0; k] } else { draw(i).iter().map(|x| scale * x).collect() })
+                .collect();
+            let mut names: Vec<String> = (0..m).map(|i| format!("u{i}")).collect();
+            names.extend((0..p).map(|o| format!("y{o}")));
+            let simulated: Vec<Vec<f64>> = (0..p as u64).map(|o| draw(4 + o)).collect();
+            let values = Mat::from_fn(k, m + p, |t, c| if c < m { inputs[c][t] } else { simulated[c - m][t] });
+            let input_names: Vec<&str> = names[..m].iter().map(String::as_str).collect();
+            let data = mem::Measurement::new(names.clone(), 0.0, 0.005, values)
+                .unwrap()
+                .with_inputs(&input_names, mem::Hold::Zero)
+                .unwrap();
+            let residual = Mat::from_fn(k, p, |t, o| if perfect { 0.0 } else { 0.01 * simulated[o][(t * 7 + 3) % k] });
+            if let Some(noise) = input_noise(&data, &Mat::from_fn(k, p, |t, o| simulated[o][t]), &residual) {
+                proptest::prop_assert!(noise.residual_power.is_finite() && noise.residual_power >= 0.0);
+                proptest::prop_assert!((0.0..=1.0).contains(&noise.share), "{}", noise.share);
+                for level in &noise.inputs {
+                    proptest::prop_assert!(level.rms.is_finite() && level.rms >= 0.0, "{level:?}");
+                    proptest::prop_assert!(level.share.is_finite() && level.share >= 0.0, "{level:?}");
+                }
+            }
+        }
+    }
 }
