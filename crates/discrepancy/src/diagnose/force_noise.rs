@@ -21,7 +21,8 @@
 
 use super::catalog::Trial;
 use super::{Candidate, Verdict};
-use crate::frf::{InputNoise, input_noise};
+use crate::frf::{InputNoise, RecordedInputs};
+use faer::Mat;
 use mem::Measurement;
 use models::FitOutcome;
 
@@ -29,11 +30,24 @@ use models::FitOutcome;
 /// ([`InputNoise::residual_power`]) which an effect acting through the dynamics must remove.
 pub const FORCE_NOISE_SHARE: f64 = 0.5;
 
-/// The weighted sum of squares of a fit's residual.
-fn weighted_error(outcome: &FitOutcome) -> f64 {
-    let first = outcome.first();
-    let residual = first.residual();
-    (0..residual.ncols()).map(|o| first.weights[o].powi(2) * residual.col(o).squared_norm_l2()).sum()
+/// A fit's weighted simulated outputs and residual (K × p), as [`RecordedInputs::noise`]
+/// reads them, and the residual's weighted sum of squares.
+struct Weighted {
+    simulated: Mat<f64>,
+    residual: Mat<f64>,
+    error: f64,
+}
+
+impl Weighted {
+    fn of(outcome: &FitOutcome) -> Self {
+        let first = outcome.first();
+        let (k, p) = (first.final_sensed.nrows(), first.final_sensed.ncols());
+        let raw = first.residual();
+        let residual = Mat::from_fn(k, p, |t, o| first.weights[o] * raw[(t, o)]);
+        let simulated = Mat::from_fn(k, p, |t, o| first.weights[o] * first.final_sensed[(t, o)]);
+        let error = residual.squared_norm_l2();
+        Self { simulated, residual, error }
+    }
 }
 
 /// The noise on `data`'s recorded inputs, read from the best-fitting of the reference and the
@@ -47,38 +61,24 @@ pub(super) fn screen(
     reference: &FitOutcome,
     data: &Measurement,
 ) -> Option<InputNoise> {
-    data.inputs()?;
-    let best = candidates
-        .iter()
-        .filter_map(|c| c.outcome.as_ref())
-        .chain(std::iter::once(reference))
-        .map(|o| (o, weighted_error(o)))
-        .min_by(|a, b| a.1.total_cmp(&b.1))?
-        .0;
-    let noise = noise_in(best, data)?;
-    let before = weighted_error(reference);
-    for (candidate, trial) in candidates.iter_mut().zip(trials) {
-        let Some(outcome) = candidate.outcome.as_ref() else { continue };
+    let inputs = RecordedInputs::of(data, data.n_samples())?;
+    let before = Weighted::of(reference);
+    let fits: Vec<Option<Weighted>> =
+        candidates.iter().map(|c| c.outcome.as_ref().map(Weighted::of)).collect();
+    let best =
+        fits.iter().flatten().chain(std::iter::once(&before)).min_by(|a, b| a.error.total_cmp(&b.error))?;
+    let noise = inputs.noise(&best.simulated, &best.residual)?;
+    for ((candidate, trial), fit) in candidates.iter_mut().zip(trials).zip(&fits) {
+        let Some(fit) = fit else { continue };
         if candidate.verdict != Verdict::Outscored || trial.output.is_some() {
             continue;
         }
         // What the force's noise accounts for in what this refit leaves: a refit that only
         // takes up part of the model's response to that noise leaves the rest of it.
-        let Some(left) = noise_in(outcome, data) else { continue };
-        let removed = before - weighted_error(outcome);
-        if removed < FORCE_NOISE_SHARE * left.residual_power {
+        let Some(left) = inputs.noise(&fit.simulated, &fit.residual) else { continue };
+        if before.error - fit.error < FORCE_NOISE_SHARE * left.residual_power {
             candidate.verdict = Verdict::WithinForceNoise;
         }
     }
     Some(noise)
-}
-
-/// The inputs' noise as a fit's weighted residual shows it.
-fn noise_in(outcome: &FitOutcome, data: &Measurement) -> Option<InputNoise> {
-    let first = outcome.first();
-    let (k, p) = (first.final_sensed.nrows(), first.final_sensed.ncols());
-    let residual = first.residual();
-    let simulated = faer::Mat::from_fn(k, p, |t, o| first.weights[o] * first.final_sensed[(t, o)]);
-    let weighted = faer::Mat::from_fn(k, p, |t, o| first.weights[o] * residual[(t, o)]);
-    input_noise(data, &simulated, &weighted)
 }

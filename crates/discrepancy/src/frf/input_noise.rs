@@ -53,78 +53,116 @@ pub struct InputNoise {
 
 /// The noise on `data`'s recorded inputs, from a fitted model's `simulated` outputs and its
 /// `residual` (both K × p on the record's grid, weighted alike); `None` without inputs, with
-/// fewer than 64 samples, or with fewer than five excited bins.
+/// fewer than 64 samples, or with fewer than five excited bins. Several residuals of one record
+/// are read with [`RecordedInputs`], whose input spectra are then computed once.
 pub fn input_noise(data: &Measurement, simulated: &Mat<f64>, residual: &Mat<f64>) -> Option<InputNoise> {
-    let (k, p) = (residual.nrows(), residual.ncols());
-    let names = data.inputs()?.names().to_vec();
-    let m = names.len();
-    if m == 0 || k < 64 || simulated.nrows() != k || simulated.ncols() != p {
-        return None;
+    RecordedInputs::of(data, residual.nrows())?.noise(simulated, residual)
+}
+
+fn auto(s: &[Vec<(f64, f64)>], b: usize) -> f64 {
+    s.iter().map(|x| x[b].0.powi(2) + x[b].1.powi(2)).sum()
+}
+
+/// A record's inputs as [`input_noise`] reads them: names, RMS, segment transforms and
+/// auto-spectra, and the bins they excite.
+pub struct RecordedInputs {
+    names: Vec<String>,
+    rms: Vec<f64>,
+    k: usize,
+    length: usize,
+    segments: Vec<Vec<Vec<(f64, f64)>>>,
+    suu: Vec<Vec<f64>>,
+    largest: Vec<f64>,
+    excited: Vec<usize>,
+}
+
+impl RecordedInputs {
+    /// `data`'s inputs on a grid of `k` rows; `None` without inputs, with fewer than 64 samples,
+    /// or with fewer than five excited bins.
+    pub fn of(data: &Measurement, k: usize) -> Option<Self> {
+        let names = data.inputs()?.names().to_vec();
+        let m = names.len();
+        if m == 0 || k < 64 {
+            return None;
+        }
+        let held = spectra::held_inputs(data, k)?;
+        let length = (k / 4).min(MAX_SEGMENT);
+        let bins = length / 2;
+        let segments: Vec<_> = (0..m).map(|i| spectra::segments(&|t| held[(t, i)], k, length)).collect();
+        if segments.first().is_none_or(Vec::is_empty) {
+            return None;
+        }
+        let suu: Vec<Vec<f64>> = segments.iter().map(|u| (0..bins).map(|b| auto(u, b)).collect()).collect();
+        let largest: Vec<f64> = suu.iter().map(|s| s.iter().copied().fold(0.0, f64::max)).collect();
+        let rms =
+            (0..m).map(|i| ((0..k).map(|t| held[(t, i)].powi(2)).sum::<f64>() / k as f64).sqrt()).collect();
+        let mut inputs = Self { names, rms, k, length, segments, suu, largest, excited: Vec::new() };
+        inputs.excited = (1..bins).filter(|&b| (0..m).any(|i| inputs.excites(i, b))).collect();
+        (inputs.excited.len() >= 5).then_some(inputs)
     }
-    let held = spectra::held_inputs(data, k)?;
-    let length = (k / 4).min(MAX_SEGMENT);
-    let bins = length / 2;
-    let window = spectra::window_power(length);
-    let auto =
-        |s: &[Vec<(f64, f64)>], b: usize| s.iter().map(|x| x[b].0.powi(2) + x[b].1.powi(2)).sum::<f64>();
-    let inputs: Vec<_> = (0..m).map(|i| spectra::segments(&|t| held[(t, i)], k, length)).collect();
-    let outputs: Vec<_> = (0..p).map(|o| spectra::segments(&|t| simulated[(t, o)], k, length)).collect();
-    let residuals: Vec<_> = (0..p).map(|o| spectra::segments(&|t| residual[(t, o)], k, length)).collect();
-    let segments = inputs.first().map_or(0, Vec::len) as f64;
-    if segments == 0.0 {
-        return None;
+
+    /// Whether input i excites bin b (its auto-spectrum there at least [`EXCITED`] of its largest).
+    fn excites(&self, i: usize, b: usize) -> bool {
+        let (s, largest) = (self.suu[i][b], self.largest[i]);
+        largest > 0.0 && s > 0.0 && s >= EXCITED * largest
     }
-    let suu: Vec<Vec<f64>> = inputs.iter().map(|u| (0..bins).map(|b| auto(u, b)).collect()).collect();
-    let largest: Vec<f64> = suu.iter().map(|s| s.iter().copied().fold(0.0, f64::max)).collect();
-    let excited_by =
-        |i: usize, b: usize| largest[i] > 0.0 && suu[i][b] > 0.0 && suu[i][b] >= EXCITED * largest[i];
-    let excited: Vec<usize> = (1..bins).filter(|&b| (0..m).any(|i| excited_by(i, b))).collect();
-    if excited.len() < 5 {
-        return None;
-    }
-    // |G_oi(f)|² per output, bin and input, by H₁ from the simulation over the inputs excited
-    // at that bin (0 for the others).
-    let gains: Vec<Vec<Vec<f64>>> = {
+
+    /// The noise on these inputs as one fit's weighted `simulated` outputs and `residual`
+    /// (K × p) show it; `None` if their size is not the record's or the fit does not converge.
+    pub fn noise(&self, simulated: &Mat<f64>, residual: &Mat<f64>) -> Option<InputNoise> {
+        let (k, p, m, length) = (self.k, residual.ncols(), self.names.len(), self.length);
+        if residual.nrows() != k || simulated.nrows() != k || simulated.ncols() != p {
+            return None;
+        }
+        let bins = length / 2;
+        let window = spectra::window_power(length);
+        let outputs: Vec<_> = (0..p).map(|o| spectra::segments(&|t| simulated[(t, o)], k, length)).collect();
+        let residuals: Vec<_> = (0..p).map(|o| spectra::segments(&|t| residual[(t, o)], k, length)).collect();
+        let segments = self.segments[0].len() as f64;
+        // |G_oi(f)|² per output, bin and input, by H₁ from the simulation over the inputs
+        // excited at that bin (0 for the others).
         let mut gains = vec![vec![vec![0.0; m]; bins]; p];
-        for &b in &excited {
-            let active: Vec<usize> = (0..m).filter(|&i| excited_by(i, b)).collect();
+        for &b in &self.excited {
+            let active: Vec<usize> = (0..m).filter(|&i| self.excites(i, b)).collect();
             for (o, per_output) in gains.iter_mut().enumerate() {
-                let response = frequency_response(&inputs, &outputs[o], &active, b);
+                let response = frequency_response(&self.segments, &outputs[o], &active, b);
                 for (&i, h) in active.iter().zip(response) {
                     per_output[b][i] = h;
                 }
             }
         }
-        gains
-    };
-    let gain = |o: usize, i: usize, b: usize| gains[o][b][i];
-    // One row per (output, excited bin): P = W a_o + Σ_i β_i W |G_oi|², P the mean |R|².
-    let rows: Vec<(usize, usize)> = (0..p).flat_map(|o| excited.iter().map(move |&b| (o, b))).collect();
-    let level: Vec<f64> = rows.iter().map(|&(o, b)| auto(&residuals[o], b) / segments).collect();
-    let design = Mat::from_fn(rows.len(), p + m, |r, c| {
-        let (o, b) = rows[r];
-        window * if c < p { f64::from(u8::from(c == o)) } else { gain(o, c - p, b) }
-    });
-    let theta = whittle(&design, &level)?;
-    let beta = &theta[p..];
-    let rms_of = |i: usize| ((0..k).map(|t| held[(t, i)].powi(2)).sum::<f64>() / k as f64).sqrt();
-    let per_output: f64 =
-        rows.iter().map(|&(o, b)| (0..m).map(|i| beta[i] * gain(o, i, b)).sum::<f64>()).sum::<f64>() * 2.0
-            / length as f64;
-    let residual_power = k as f64 * per_output;
-    let total: f64 = (0..p).map(|o| residual.col(o).squared_norm_l2()).sum();
-    Some(InputNoise {
-        inputs: names
-            .into_iter()
-            .enumerate()
-            .map(|(i, input)| {
-                let rms = beta[i].sqrt();
-                InputNoiseLevel { input, rms, share: rms / rms_of(i).max(f64::MIN_POSITIVE) }
-            })
-            .collect(),
-        residual_power,
-        share: if total > 0.0 { (residual_power / total).min(1.0) } else { 0.0 },
-    })
+        let gain = |o: usize, i: usize, b: usize| gains[o][b][i];
+        // One row per (output, excited bin): P = W a_o + Σ_i β_i W |G_oi|², P the mean |R|².
+        let rows: Vec<(usize, usize)> =
+            (0..p).flat_map(|o| self.excited.iter().map(move |&b| (o, b))).collect();
+        let level: Vec<f64> = rows.iter().map(|&(o, b)| auto(&residuals[o], b) / segments).collect();
+        let design = Mat::from_fn(rows.len(), p + m, |r, c| {
+            let (o, b) = rows[r];
+            window * if c < p { f64::from(u8::from(c == o)) } else { gain(o, c - p, b) }
+        });
+        let theta = whittle(&design, &level)?;
+        let beta = &theta[p..];
+        let per_output: f64 =
+            rows.iter().map(|&(o, b)| (0..m).map(|i| beta[i] * gain(o, i, b)).sum::<f64>()).sum::<f64>()
+                * 2.0
+                / length as f64;
+        let residual_power = k as f64 * per_output;
+        let total: f64 = (0..p).map(|o| residual.col(o).squared_norm_l2()).sum();
+        Some(InputNoise {
+            inputs: self
+                .names
+                .iter()
+                .zip(&self.rms)
+                .zip(beta)
+                .map(|((input, rms_u), beta)| {
+                    let rms = beta.sqrt();
+                    InputNoiseLevel { input: input.clone(), rms, share: rms / rms_u.max(f64::MIN_POSITIVE) }
+                })
+                .collect(),
+            residual_power,
+            share: if total > 0.0 { (residual_power / total).min(1.0) } else { 0.0 },
+        })
+    }
 }
 
 /// Σ over segments of conj(A) B at bin `b`.

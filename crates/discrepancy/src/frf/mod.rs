@@ -16,7 +16,7 @@
 mod input_noise;
 mod spectra;
 
-pub use input_noise::{InputNoise, InputNoiseLevel, input_noise};
+pub use input_noise::{InputNoise, InputNoiseLevel, RecordedInputs, input_noise};
 
 use era::EraMode;
 use faer::Mat;
