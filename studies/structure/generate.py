@@ -41,7 +41,8 @@ generator are those without --forced (the same buildings, effects and noise sequ
 strengths' peaks (and the pounding's gap) are those of the linear forced response to the case's
 own input. --input-noise L adds white noise of L x RMS(u) to the recorded u only (the building
 feels the clean u). The truth records the input ("input": kind, rms of the applied u, noise).
---check first compares the interval-by-interval integration with the exact discrete-time solution
+The truth of a forced appendage case also records `resonance_nats`, how far the appendage can be
+seen as a mode of its own (see resonance_nats). --check first compares the interval-by-interval integration with the exact discrete-time solution
 of the linear building (the matrix exponential), and stops unless --out is given too.
 
 usage:  python3 studies/structure/generate.py --out DIR --set dev|held [--seed N] [--more-c] [--more-degrading]
@@ -165,6 +166,29 @@ def linear_zoh(A, B, u):
     return x
 
 
+def resonance_nats(M, K, D, extra, u, sigma):
+    """--forced: how far an appendage (j, m, f, zeta) can be seen as a mode of its own, in nats:
+    half the squared norm, in units of each column's noise sigma, of the part of its effect on the
+    measured columns (the exact zero-order-hold response of the linear building with it, less the
+    one without) that lies in the span of a trial mode at its frequency and damping driven by u
+    (eta and eta'/omega of eta'' + 2 zeta omega eta' + omega^2 eta = omega^2 u, from rest). The
+    rest of its effect the building's own masses and stiffness, refitted, take up: below its
+    frequency an appendage moves with its floor, an added mass. A bound to set beside the
+    diagnosis's held-out threshold (10 nats); measurement noise and the refit only lower it."""
+    j, ma, fa, za = extra
+    x0 = linear_zoh(*state_space(M, K, D), u)[:, MEASURED]
+    x1 = linear_zoh(*state_space(M, K, D, extra), u)[:, MEASURED]
+    d = (x1 - x0) / sigma
+    w = 2 * np.pi * fa
+    E = expm(np.array([[0.0, w, 0.0], [-w, -2 * za * w, w], [0.0, 0.0, 0.0]]) * H)
+    eta, z = np.zeros((N, 2)), np.zeros(2)
+    for k in range(N):
+        eta[k] = z
+        z = E[:2, :2] @ z + E[:2, 2] * u[k]
+    q, _ = np.linalg.qr(eta)
+    return float(0.5 * np.sum((q.T @ d) ** 2))
+
+
 def input_shape(g, kind):
     """An input of the kind, unscaled, drawn from the generator g."""
     t = np.arange(N) * H
@@ -254,6 +278,8 @@ def case_a(rng, kind, strength, w=None):  # w: --forced's input shape (see drive
     x = simulate(M, K, D, force, extra, u)
     clean = x[:, MEASURED].copy()
     e, sigma = noise(rng, clean, level, rho)
+    if kind == "appendage" and u is not None:
+        truth["resonance_nats"] = resonance_nats(M, K, D, extra, u, sigma)
     y = clean + e
     t = np.arange(N) * H
     if kind == "offset":
