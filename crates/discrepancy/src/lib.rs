@@ -6,8 +6,8 @@
 //! 2. **localises** the residual ([`localise()`](localise::localise)): which output and which part of the record carry
 //!    it, whether it is white (Ljung–Box), whether damping depends on amplitude, whether it holds
 //!    a mode the model lacks (ERA on the residual, which seeds the unmodeled-mode candidate; on
-//!    a record forced by measured inputs, peaks of the residual's frequency response from them,
-//!    [`frf`]);
+//!    a record forced by measured inputs, the frequencies where a mode driven by them would
+//!    explain most of the residual, [`frf`]);
 //! 3. refits with each **candidate effect** of the catalog ([`diagnose::catalog`]; starting
 //!    values from the model and the data), in parallel;
 //! 4. **scores** every candidate by the same likelihood of the same data — Gaussian AR(1) noise
