@@ -81,17 +81,19 @@ fn assert_central_differences(
 const QUADRATIC: f64 = 2e8;
 /// Its quintic part k₅.
 const QUINTIC: f64 = 5e13;
+/// Its one-sided part kₛ (f += kₛq⁴|q|): stiffer for q1 > 0.
+const SIDED: f64 = 3e13;
 /// The rate k₁′ at which its linear stiffness changes (f += k₁′·t·q1): −8 % of k1 a second.
 const RATE: f64 = -2e5;
 
-/// RK4 with a fine fixed step of the building with a spring k₃q³ + k₂q² + k₅q⁵ + k₁′·t·q at q1
-/// (k₂ = [`QUADRATIC`], k₅ = [`QUINTIC`], k₁′ = [`RATE`]), drag at q3 and dry friction at q2;
+/// RK4 with a fine fixed step of the building with a spring k₃q³ + k₂q² + k₅q⁵ + kₛq⁴|q| + k₁′·t·q
+/// at q1 (k₂ = [`QUADRATIC`], k₅ = [`QUINTIC`], kₛ = [`SIDED`], k₁′ = [`RATE`]), drag at q3 and dry friction at q2;
 /// returns q1, q3, and the acceleration of q3 at every `h`.
 fn rk4(k_samples: usize, h: f64, cubic: f64, drag: (f64, f64), friction: (f64, f64)) -> Vec<[f64; 3]> {
     rk4_with(k_samples, h, (cubic, 1.0), drag, (friction.0, friction.1, 0.0, 1.0))
 }
 
-/// [`rk4`] with the spring's k₂, k₅ and k₁′ scaled by `spring.1` (0: a cubic spring alone), and
+/// [`rk4`] with the spring's k₂, k₅, kₛ and k₁′ scaled by `spring.1` (0: a cubic spring alone), and
 /// the friction (F_c, v_s, ΔF, v_st) with a static peak ΔF falling over v_st.
 fn rk4_with(
     k_samples: usize,
@@ -106,7 +108,11 @@ fn rk4_with(
         let (q, v) = ([x[0], x[1], x[2]], [x[3], x[4], x[5]]);
         let mut f = [0.0; 3];
         f[0] -= cubic * q[0].powi(3)
-            + others * (QUADRATIC * q[0] * q[0] + QUINTIC * q[0].powi(5) + RATE * t * q[0]);
+            + others
+                * (QUADRATIC * q[0] * q[0]
+                    + QUINTIC * q[0].powi(5)
+                    + SIDED * q[0].powi(4) * q[0].abs()
+                    + RATE * t * q[0]);
         f[2] -= drag.0 * v[2] * v[2].abs().powf(drag.1 - 1.0);
         let level = friction.0 + friction.2 * (-(v[1] / friction.3).powi(2)).exp();
         f[1] -= level * v[1] / (v[1] * v[1] + friction.1 * friction.1).sqrt();
@@ -137,7 +143,7 @@ fn rk4_with(
 }
 
 const EFFECTS: &str = "CubicStiffness(coordinate: \"q1\", coefficient: 3e10, quadratic: Some(2e8), quintic: Some(5e13), \
-     rate: Some(-2e5)), \
+     sided: Some(3e13), rate: Some(-2e5)), \
      Drag(coordinate: \"q3\", coefficient: 800, exponent: 2.0), \
      DryFriction(coordinate: \"q2\", force: 150, smoothing_velocity: 0.01)";
 
@@ -260,6 +266,7 @@ fn force_sensitivities_are_central_differences() {
         "cubic_q1",
         "quadratic_q1",
         "quintic_q1",
+        "sided_q1",
         "stiffness_rate_q1",
         "drag_q3",
         "drag_exponent_q3",

@@ -180,8 +180,8 @@ impl Rival {
 }
 
 /// One term of a named spring's form refitted beside it (step 8 of
-/// [module `diagnose`](mod@crate::diagnose)): the asymmetric part k₂q_c² (`quadratic_<c>`) or a
-/// linear stiffness that changes with time k₁′·t·q_c (`stiffness_rate_<c>`), each beside the
+/// [module `diagnose`](mod@crate::diagnose)): an asymmetric part, k₂q_c² (`quadratic_<c>`) or
+/// kₛq_c⁴|q_c| (`sided_<c>`), or a linear stiffness that changes with time k₁′·t·q_c (`stiffness_rate_<c>`), each beside the
 /// spring and a symmetric refinement of its form k₅q_c⁵.
 #[derive(Clone, Debug, Serialize)]
 pub struct SpringTerm {
@@ -204,8 +204,10 @@ pub struct SpringTerm {
 /// stands for physics the catalog does not hold, and nothing is named.
 #[derive(Clone, Debug, Serialize)]
 pub struct SpringForm {
-    /// Its asymmetric part k₂q_c²: demanded, the restoring force is stiffer on one side than the
-    /// other (a stop, a contact, a gap that closes one way; [`Verdict::Asymmetric`]). Not tested
+    /// Its asymmetric part, k₂q_c² or the one-sided kₛq_c⁴|q_c| (`sided_<c>`, at the quintic's
+    /// power: a stop or a contact beyond a gap), whichever the data demand, else whichever gains
+    /// more: demanded, the restoring force is stiffer on one side than the other (a stop, a
+    /// contact, a gap that closes one way; [`Verdict::Asymmetric`]). Not tested
     /// (`None`) for the slewing rig's hub spring, whose free decay stays on one side of zero.
     pub asymmetric: Option<SpringTerm>,
     /// A linear stiffness that changes with time, k₁′·t·q_c: demanded, the stiffness changes

@@ -136,6 +136,7 @@ pub(super) fn fading(candidate: &Candidate, trial: &Trial, test: &FormTest) -> O
                     coefficient: 0.0,
                     quadratic: None,
                     quintic: None,
+                    sided: None,
                     rate: Some(0.0),
                 }
                 .into(),

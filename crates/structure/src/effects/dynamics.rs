@@ -31,7 +31,7 @@ impl Effect {
                     c * v * (v * v).powd((e - D::from(1.0)) * D::from(0.5))
                 }
             }
-            Effect::CubicStiffness { quadratic, quintic, rate, .. } => {
+            Effect::CubicStiffness { quadratic, quintic, sided, rate, .. } => {
                 let q3 = q * q * q;
                 let mut f = theta[0] * q3;
                 let mut k = 1;
@@ -41,6 +41,18 @@ impl Effect {
                 }
                 if quintic.is_some() {
                     f += theta[k] * q3 * q * q;
+                    k += 1;
+                }
+                if sided.is_some() {
+                    // q⁴|q| = q⁵·sign(q), with the sign a constant of the state's value: its
+                    // derivatives are then exact on either side and 0 at q = 0, where √(q²)
+                    // would give 0/0 (a forced record starts there).
+                    let sign = match q.re() {
+                        r if r > 0.0 => 1.0,
+                        r if r < 0.0 => -1.0,
+                        _ => 0.0,
+                    };
+                    f += theta[k] * q3 * q * q * D::from(sign);
                     k += 1;
                 }
                 if rate.is_some() {

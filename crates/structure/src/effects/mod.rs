@@ -31,7 +31,7 @@
 //! act: `offset_<output>`, `scale_<output>`, `drift_<output>`, `crosstalk_<output>_<from>`,
 //! `friction_<coordinate>`,
 //! `static_peak_<coordinate>`, `stribeck_velocity_<coordinate>`,
-//! `drag_<coordinate>`, `drag_exponent_<coordinate>`, `cubic_<coordinate>`, `quadratic_<coordinate>`, `quintic_<coordinate>`,
+//! `drag_<coordinate>`, `drag_exponent_<coordinate>`, `cubic_<coordinate>`, `quadratic_<coordinate>`, `quintic_<coordinate>`, `sided_<coordinate>`,
 //! `stiffness_rate_<coordinate>`, `mode_frequency`,
 //! `mode_damping`, `mode_cos_<output>`, `mode_sin_<output>`. A quantization step and a friction's
 //! smoothing width are settings, not parameters.
@@ -114,8 +114,8 @@ pub enum Effect {
         /// e ≥ 1.
         exponent: f64,
     },
-    /// A nonlinear spring k₃q³ + k₂q² + k₅q⁵ at a coordinate (hardening for k₃ > 0; k₂ makes it
-    /// asymmetric, stiffer on one side than the other), with a linear stiffness k₁′·t that
+    /// A nonlinear spring k₃q³ + k₂q² + k₅q⁵ + kₛq⁴|q| at a coordinate (hardening for k₃ > 0;
+    /// k₂ and kₛ make it asymmetric, stiffer on one side than the other), with a linear stiffness k₁′·t that
     /// changes over the record if `rate` is given.
     CubicStiffness {
         /// The coordinate.
@@ -130,6 +130,12 @@ pub enum Effect {
         /// `quintic_<coordinate>` when given.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         quintic: Option<f64>,
+        /// kₛ, a one-sided part at the quintic's power, kₛq⁴|q| (even: it adds to k₅q⁵ on one
+        /// side and takes from it on the other, so the spring is stiffer one way at large
+        /// amplitude, as a stop or a contact that closes beyond a gap; 0 when absent); a
+        /// parameter `sided_<coordinate>` when given.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        sided: Option<f64>,
         /// k₁′, a linear stiffness that grows at this rate over the record, f += k₁′·t·q with t
         /// the time since the release \[N/m/s\] (negative for a spring that degrades; 0 when
         /// absent); a parameter `stiffness_rate_<coordinate>` when given.
@@ -246,10 +252,11 @@ impl Effect {
                 (format!("drag_{coordinate}"), *coefficient),
                 (format!("drag_exponent_{coordinate}"), *exponent),
             ],
-            Effect::CubicStiffness { coordinate, coefficient, quadratic, quintic, rate } => {
+            Effect::CubicStiffness { coordinate, coefficient, quadratic, quintic, sided, rate } => {
                 let mut out = vec![(format!("cubic_{coordinate}"), *coefficient)];
                 out.extend(quadratic.map(|k2| (format!("quadratic_{coordinate}"), k2)));
                 out.extend(quintic.map(|k5| (format!("quintic_{coordinate}"), k5)));
+                out.extend(sided.map(|ks| (format!("sided_{coordinate}"), ks)));
                 out.extend(rate.map(|r| (format!("stiffness_rate_{coordinate}"), r)));
                 out
             }
@@ -284,10 +291,11 @@ impl Effect {
                 slots.extend(stribeck_velocity.as_mut());
                 *slots[k] = value;
             }
-            Effect::CubicStiffness { coefficient, quadratic, quintic, rate, .. } => {
+            Effect::CubicStiffness { coefficient, quadratic, quintic, sided, rate, .. } => {
                 let mut slots: Vec<&mut f64> = vec![coefficient];
                 slots.extend(quadratic.as_mut());
                 slots.extend(quintic.as_mut());
+                slots.extend(sided.as_mut());
                 slots.extend(rate.as_mut());
                 *slots[k] = value;
             }

@@ -246,6 +246,7 @@ pub(super) fn trials(
                     coefficient: 0.05 * k / (q * q),
                     quadratic: None,
                     quintic: None,
+                    sided: None,
                     rate: None,
                 },
                 format!("cubic_stiffness({c})"),
@@ -258,6 +259,7 @@ pub(super) fn trials(
                 coefficient: -0.05 * k / (q * q),
                 quadratic: None,
                 quintic: None,
+                sided: None,
                 rate: None,
             }),
         );
