@@ -14,8 +14,9 @@
 //! the input excites little, a white residual's expected gain is the same as anywhere (two
 //! degrees of freedom an output), so the band's edges do not ring. The H₁ estimate
 //! S_uy/S_uu that this replaced divides by the input's auto-spectrum: at the edge of a
-//! band-limited input its variance grows without bound, and its peak picking seeded "modes" at
-//! 36–52 Hz on roof-driven records whose appendage rang at 19–23 Hz. (A least-squares impulse
+//! band-limited input its variance grows without bound, and its peak picking found "modes" at
+//! 50 and 52 Hz (refitted at 36 and 46 Hz) on a roof-driven record, low-passed at 40 Hz, whose
+//! appendage rang at 21 Hz. (A least-squares impulse
 //! response fed to ERA, tried before that, rang at a swept sine's last frequency.)
 
 mod input_noise;
