@@ -118,6 +118,9 @@ def run_case(case, set_dir, opt, workdir):
            "first": r1, "forms": case.get("forms")}
     if case["family"] == "B":
         rec["null_kind"] = case["truth"].get("null_kind", "?")
+    effects = case.get("truth", {}).get("effects") or [{}]
+    if "resonance_nats" in effects[0]:  # a forced appendage of studies/structure (its generator)
+        rec["resonance_nats"] = effects[0]["resonance_nats"]
     named, label = r1["effect"], r1["label"]
     rec["right"] = named in case["accept"] and sensor_ok(case, named, label)
     rec["wrong_sensor"] = named in case["accept"] and not sensor_ok(case, named, label)
@@ -221,6 +224,20 @@ def report(recs, set_dir, wall):
             P(f"| {f} | {sum(r['right'] for r in rs)}/{len(rs)} | "
               + ", ".join(f"{k} ×{v}" for k, v in sorted(names.items(), key=lambda x: -x[1])) + " |")
         P("")
+        seen = [r for r in A if "resonance_nats" in r]
+        if seen:
+            # The generator's bound on how far each appendage shows as a mode of its own (nats):
+            # below the 10-nat threshold its resonance is under the noise, and what the record
+            # shows of it is an added mass.
+            P("### Appendages by how far the record shows them as a mode")
+            P("")
+            P("| resonance_nats | right | cases (strength, nats, named) |")
+            P("|---|---|---|")
+            for title, rs in (("≥ 10", [r for r in seen if r["resonance_nats"] >= 10.0]),
+                              ("< 10", [r for r in seen if r["resonance_nats"] < 10.0])):
+                cases = "; ".join(f"{r['strength']} {r['resonance_nats']:.1f} {fmt_named(r['first'])}" for r in rs)
+                P(f"| {title} | {sum(r['right'] for r in rs)}/{len(rs)} | {cases or '—'} |")
+            P("")
     B = [r for r in recs if r["family"] == "B"]
     if B:
         P("## Family B: null false alarms")
