@@ -133,12 +133,19 @@ pub fn localise(data: &Measurement, outcome: &FitOutcome) -> Localisation {
     // A free decay is a response ERA reads as it is; a forced record's resonances are the peaks
     // of its frequency response from the measured inputs (`frf`).
     let weighted = |of: &dyn Fn(usize, usize) -> f64| faer::Mat::from_fn(k, p, |t, o| weights[o] * of(t, o));
-    let read = |series: faer::Mat<f64>, order: usize| match driven {
-        true => crate::frf::resonances(data, &series).unwrap_or_default(),
-        false => modes_of(series, order),
+    let (of_residual, of_data) =
+        (weighted(&|t, o| residual[(t, o)]), weighted(&|t, o| data.values()[(t, o)]));
+    let (residual_modes, data_modes) = match driven {
+        // One scan of the inputs' trial modes serves both series.
+        true => match crate::frf::resonances_of(data, &[&of_residual, &of_data]) {
+            Some(mut both) => {
+                let of_data = both.pop().unwrap_or_default();
+                (both.pop().unwrap_or_default(), of_data)
+            }
+            None => (Vec::new(), Vec::new()),
+        },
+        false => (modes_of(of_residual, 10), modes_of(of_data, 16)),
     };
-    let residual_modes = read(weighted(&|t, o| residual[(t, o)]), 10);
-    let data_modes = read(weighted(&|t, o| data.values()[(t, o)]), 16);
     let mut findings = Vec::new();
     if let Some(o) = outputs.iter().max_by(|a, b| a.share.total_cmp(&b.share)) {
         findings.push(format!("output `{}` carries {:.0} % of the error", o.name, 100.0 * o.share));

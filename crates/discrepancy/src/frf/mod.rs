@@ -65,33 +65,78 @@ const MIN_CYCLES: f64 = 3.0;
 /// or with fewer than 64 samples. The inputs are taken on the record's grid (averaged over each
 /// interval where it was decimated); the gain does not depend on an input's units.
 pub fn resonances(data: &Measurement, series: &Mat<f64>) -> Option<Vec<EraMode>> {
+    resonances_of(data, &[series]).map(|mut each| each.remove(0))
+}
+
+/// [`resonances`] of several series of one record (a residual and the record itself, say): the
+/// trial modes depend on the inputs alone, so each is driven once and projected on every series.
+/// One list per series, in their order; `None` as for [`resonances`].
+pub fn resonances_of(data: &Measurement, series: &[&Mat<f64>]) -> Option<Vec<Vec<EraMode>>> {
     let inputs = data.inputs()?;
-    let (k, m) = (series.nrows(), inputs.names().len());
+    let k = series.iter().map(|s| s.nrows()).min()?;
+    let m = inputs.names().len();
     if m == 0 || k < 64 {
         return None;
     }
     let held = spectra::held_inputs(data, k)?;
     let h = data.interval();
+    let none = || Some(vec![Vec::new(); series.len()]);
     let Some((low, high)) = excited_band(&held, k, h) else {
-        return Some(Vec::new());
+        return none();
     };
     let columns: Vec<Vec<f64>> = (0..m).map(|i| (0..k).map(|t| held[(t, i)]).collect()).collect();
-    let gain = |f: f64, zeta: f64| -> f64 {
-        columns
-            .iter()
-            .filter_map(|u| scan::trial_response(f, zeta, h, u))
-            .map(|x| scan::explained(series, &x))
-            .sum()
+    // Each series' gain at (f, ζ), summed over the inputs' trial modes.
+    let gains = |f: f64, zeta: f64| -> Vec<f64> {
+        let mut g = vec![0.0; series.len()];
+        for x in columns.iter().filter_map(|u| scan::trial_response(f, zeta, h, u)) {
+            for (gs, s) in g.iter_mut().zip(series) {
+                *gs += scan::explained(s, &x);
+            }
+        }
+        g
     };
     let steps = ((high / low).ln() / SPACING.ln_1p()).floor() as usize;
     let grid: Vec<f64> = (0..=steps).map(|j| low * (SPACING.ln_1p() * j as f64).exp()).collect();
     if grid.len() < 5 {
-        return Some(Vec::new());
+        return none();
     }
-    let g: Vec<f64> = grid.iter().map(|&f| gain(f, SCAN_DAMPING)).collect();
+    let scanned: Vec<Vec<f64>> = grid.iter().map(|&f| gains(f, SCAN_DAMPING)).collect();
+    let at = |f0: f64, zeta: f64, which: usize| gains(f0, zeta)[which];
+    Some(
+        (0..series.len())
+            .map(|which| {
+                let g: Vec<f64> = scanned.iter().map(|v| v[which]).collect();
+                peaks_of(&grid, &g)
+                    .into_iter()
+                    .map(|(j, share)| {
+                        let f0 = grid[j];
+                        let damping = DAMPINGS
+                            .iter()
+                            .map(|&z| (z, at(f0, z, which)))
+                            .max_by(|a, b| a.1.total_cmp(&b.1))
+                            .map_or(SCAN_DAMPING, |(z, _)| z);
+                        EraMode {
+                            frequency_hz: f0,
+                            damping_ratio: damping,
+                            consistency: 1.0,
+                            mpc: None,
+                            contribution: share,
+                            physical: true,
+                        }
+                    })
+                    .collect()
+            })
+            .collect(),
+    )
+}
+
+/// The resonances of one gain curve `g` over `grid`: its local maxima standing [`PROMINENCE`]
+/// times above its median, strongest first, [`SEPARATION`] apart, at most [`MAX_PEAKS`], each
+/// with its share of their summed gain; none where a gain is not finite.
+fn peaks_of(grid: &[f64], g: &[f64]) -> Vec<(usize, f64)> {
     let mut sorted: Vec<f64> = g.iter().copied().filter(|v| v.is_finite()).collect();
     if sorted.len() < grid.len() {
-        return Some(Vec::new());
+        return Vec::new();
     }
     sorted.sort_by(f64::total_cmp);
     let median = sorted[sorted.len() / 2];
@@ -109,27 +154,7 @@ pub fn resonances(data: &Measurement, series: &Mat<f64>) -> Option<Vec<EraMode>>
         }
     }
     let total: f64 = peaks.iter().map(|&j| g[j]).sum();
-    Some(
-        peaks
-            .into_iter()
-            .map(|j| {
-                let f0 = grid[j];
-                let damping = DAMPINGS
-                    .iter()
-                    .map(|&z| (z, gain(f0, z)))
-                    .max_by(|a, b| a.1.total_cmp(&b.1))
-                    .map_or(SCAN_DAMPING, |(z, _)| z);
-                EraMode {
-                    frequency_hz: f0,
-                    damping_ratio: damping,
-                    consistency: 1.0,
-                    mpc: None,
-                    contribution: g[j] / total,
-                    physical: true,
-                }
-            })
-            .collect(),
-    )
+    peaks.into_iter().map(|j| (j, g[j] / total)).collect()
 }
 
 /// The band (Hz) the inputs `held` (K × m, every `h` s) excite: from the lowest to the highest
