@@ -89,8 +89,9 @@ pub fn resonances_of(data: &Measurement, series: &[&Mat<f64>]) -> Option<Vec<Vec
     let gains = |f: f64, zeta: f64| -> Vec<f64> {
         let mut g = vec![0.0; series.len()];
         for x in columns.iter().filter_map(|u| scan::trial_response(f, zeta, h, u)) {
+            let q = scan::basis(&x);
             for (gs, s) in g.iter_mut().zip(series) {
-                *gs += scan::explained(s, &x);
+                *gs += scan::explained(s, &q);
             }
         }
         g

@@ -42,12 +42,12 @@ pub(super) fn trial_response(f: f64, zeta: f64, h: f64, u: &[f64]) -> Option<Mat
     x.iter().all(|v| v.is_finite()).then_some(response)
 }
 
-/// Σ_o ‖Q₂ᵀ r_o‖² for the columns r_o of `series` (K × p) and an orthonormal basis Q₂ of the
-/// columns of `regressors` (K × 2); a column that adds less than 1e-12 of its own norm to the
-/// basis is left out (an input that does not excite the trial mode explains nothing).
-pub(super) fn explained(series: &Mat<f64>, regressors: &Mat<f64>) -> f64 {
-    let k = series.nrows().min(regressors.nrows());
-    let mut basis: Vec<Vec<f64>> = Vec::with_capacity(2);
+/// An orthonormal basis Q₂ of the columns of `regressors` (K × 2), by modified Gram–Schmidt; a
+/// column that adds less than 1e-12 of its own norm to the basis is left out (an input that
+/// does not excite the trial mode explains nothing).
+pub(super) fn basis(regressors: &Mat<f64>) -> Vec<Vec<f64>> {
+    let k = regressors.nrows();
+    let mut basis: Vec<Vec<f64>> = Vec::with_capacity(regressors.ncols());
     for c in 0..regressors.ncols() {
         let mut v: Vec<f64> = (0..k).map(|t| regressors[(t, c)]).collect();
         let norm0 = v.iter().map(|x| x * x).sum::<f64>().sqrt();
@@ -61,6 +61,13 @@ pub(super) fn explained(series: &Mat<f64>, regressors: &Mat<f64>) -> f64 {
             basis.push(v);
         }
     }
+    basis
+}
+
+/// Σ_o ‖Q₂ᵀ r_o‖² for the columns r_o of `series` (K × p) and an orthonormal `basis` Q₂
+/// ([`basis`]).
+pub(super) fn explained(series: &Mat<f64>, basis: &[Vec<f64>]) -> f64 {
+    let k = basis.iter().map(Vec::len).fold(series.nrows(), usize::min);
     (0..series.ncols())
         .map(|o| {
             basis.iter().map(|q| (0..k).map(|t| q[t] * series[(t, o)]).sum::<f64>().powi(2)).sum::<f64>()
@@ -101,7 +108,7 @@ mod tests {
             Mat::from_fn(k, 2, |t, c| if c == 0 { (t as f64 * 0.3).sin() } else { (t as f64 * 0.3).cos() });
         let inside = Mat::from_fn(k, 1, |t, _| 2.0 * x[(t, 0)] - 0.5 * x[(t, 1)]);
         let total: f64 = (0..k).map(|t| inside[(t, 0)].powi(2)).sum();
-        assert!((explained(&inside, &x) - total).abs() < 1e-9 * total);
+        assert!((explained(&inside, &basis(&x)) - total).abs() < 1e-9 * total);
         let zero = Mat::from_fn(k, 2, |t, c| if c == 0 { x[(t, 0)] } else { 0.0 });
         let orthogonal = Mat::from_fn(k, 1, |t, _| {
             x[(t, 1)]
@@ -110,6 +117,6 @@ mod tests {
                     d / (0..k).map(|s| x[(s, 0)].powi(2)).sum::<f64>()
                 }
         });
-        assert!(explained(&orthogonal, &zero) < 1e-18);
+        assert!(explained(&orthogonal, &basis(&zero)) < 1e-18);
     }
 }
