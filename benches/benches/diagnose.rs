@@ -13,7 +13,9 @@
 //! limiter and from a clamp (`slewing_clamp_coloured.csv`). On a forced record: the peak picking
 //! on the frequency response from the measured force (`discrepancy::frf::resonances`, 2,001
 //! samples, two outputs) and a whole diagnosis of the building shaken on the roof with a driven
-//! appendage (`fixtures/independent/forced/appendage_q3.csv`).
+//! appendage (`fixtures/independent/forced/appendage_q3.csv`), and of one whose q3 sensor reads
+//! 1 % low (`scale_q3_small.csv`), which the diagnosis assesses twice, with the masses and
+//! without them.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use discrepancy::{DiagnoseOptions, diagnose, quantization};
@@ -134,6 +136,14 @@ fn bench_forced(c: &mut Criterion) {
     let options = DiagnoseOptions::new(&["k1", "k2", "k3", "alpha", "beta"]);
     group.bench_function("diagnose/shear_building_forced_appendage_q3", |b| {
         b.iter(|| diagnose(black_box(&model), &raw, &options).unwrap())
+    });
+    // A scale error the masses take up: assessed against the reference with them, nothing is
+    // chosen, and everything is assessed again without them (module `secondary`): the dearest
+    // kind of forced diagnosis.
+    let small = mem::Measurement::read_csv(&fixture("independent/forced/scale_q3_small.csv")).unwrap();
+    assert_eq!(diagnose(&model, &small, &options).unwrap().effect(), "sensor_scale");
+    group.bench_function("diagnose/shear_building_forced_scale_q3_small", |b| {
+        b.iter(|| diagnose(black_box(&model), &small, &options).unwrap())
     });
     group.finish();
 }

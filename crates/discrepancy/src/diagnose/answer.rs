@@ -388,6 +388,53 @@ pub struct ScaleChoice {
     pub other_charge: f64,
 }
 
+/// The mismatch parameters the reference freed one at a time (a structure's fixed parameters,
+/// the slewing rig's mass per length), weighed by the BIC (module `secondary`): the account of
+/// the data with them — the reference and what the evidence chose against it — against the
+/// account without them. Not earned, the account without them was kept: every candidate was
+/// scored against the reference without them.
+#[derive(Clone, Debug, Serialize)]
+pub struct SecondaryMismatch {
+    /// The parameters.
+    pub parameters: Vec<String>,
+    /// The effect chosen against the reference with them (its label), if any.
+    pub with: Option<String>,
+    /// The effect of the account without them, if any: the same effect refitted, or what the
+    /// evidence chose against that reference.
+    pub without: Option<String>,
+    /// The account with them less the one without, in sample (nats).
+    pub gain: f64,
+    /// The charge of the parameters the account with them has beyond the other's, k ln(m)/2
+    /// over m residuals (nats; negative where it has fewer).
+    pub charge: f64,
+    /// Whether they gain more than their charge.
+    pub earned: bool,
+    /// Whether the reference kept them: where they are not earned, unless the account without
+    /// them chose another effect than the one chosen with them (module `secondary`).
+    pub kept: bool,
+}
+
+impl SecondaryMismatch {
+    /// In words.
+    pub fn sentence(&self) -> String {
+        let one = self.parameters.len() == 1;
+        let account = |e: &Option<String>| e.clone().unwrap_or_else(|| "no effect".into());
+        format!(
+            "the model's fixed {} freed with {} gain{} {:.1} nats over {} without {}, less than the {:.1} \
+             their charge asks: {} kept at the file's value{}, and every candidate was scored against that model",
+            self.parameters.join(", "),
+            account(&self.with),
+            if one { "s" } else { "" },
+            self.gain,
+            account(&self.without),
+            if one { "it" } else { "them" },
+            self.charge,
+            if one { "it is" } else { "they are" },
+            if one { "" } else { "s" },
+        )
+    }
+}
+
 /// The answer of [`super::diagnose`].
 #[derive(Clone, Debug)]
 pub struct Diagnosis {
@@ -404,6 +451,9 @@ pub struct Diagnosis {
     pub mismatch_parameters: Vec<String>,
     /// In-sample gain of freeing them (nats): the reference's log-likelihood less the baseline's.
     pub mismatch_gain: f64,
+    /// The mismatch parameters freed one at a time, weighed against the effect first chosen
+    /// ([`SecondaryMismatch`]); `None` where there were none or nothing was chosen.
+    pub secondary: Option<SecondaryMismatch>,
     /// The measurement model every candidate was scored under.
     pub noise: NoiseModel,
     /// All candidates, named first, then by evidence.

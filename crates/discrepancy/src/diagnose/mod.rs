@@ -12,6 +12,12 @@
 //!    baseline does, by more than the threshold (held-out log-likelihood, [`evidence`]);
 //! 4. it still does so when the model's own linear parameters (modal damping, hub inertia,
 //!    beam stiffness and mass) are freed as well: a parameter mismatch is not a missing effect;
+//!    those freed one at a time where the data determine them (the slewing rig's mass per
+//!    length, a structure's fixed parameters such as its masses) are kept only where the
+//!    account with them — the reference and what the evidence chooses against it — beats the
+//!    account without them by the BIC ([`SecondaryMismatch`], module `secondary`): a fixed
+//!    parameter freed takes up part of whatever is missing, and one effect that explains the
+//!    record better than three masses is the simpler account;
 //! 5. it removes at least a tenth of the structure the reference's residual holds beyond the
 //!    measurement model (what an AR(20) predictor of the residual gains over the noise's own
 //!    AR(1), [`evidence::structure`]): missing physics explains the structure it leaves, a
@@ -108,6 +114,7 @@
 //! larger ([`crate::quantization`]).
 
 mod answer;
+mod assess;
 pub mod catalog;
 mod crosstalk;
 pub mod evidence;
@@ -125,11 +132,12 @@ mod run;
 mod saturation;
 mod schedule;
 mod score;
+mod secondary;
 mod spring;
 
 pub use answer::{
     AddedTerm, Candidate, Departures, Diagnosis, EffectParameter, Evidence, Moved, RIVAL_MARGIN, Rival,
-    SaturationKnee, ScaleChoice, SpringForm, SpringTerm, StaticPeak, Verdict,
+    SaturationKnee, ScaleChoice, SecondaryMismatch, SpringForm, SpringTerm, StaticPeak, Verdict,
 };
 pub use force_noise::FORCE_NOISE_SHARE;
 pub use options::{
@@ -143,7 +151,6 @@ pub use rivals::SAME_FIT;
 pub use residual::{Band, ResidualStructure};
 
 use crate::WorkflowError;
-use crate::localise::localise;
 use answer::last_error;
 use catalog::Trial;
 use evidence::NoiseModel;
@@ -151,7 +158,6 @@ use mem::Measurement;
 use models::{FitOutcome, Model, align};
 use named::{choose, polish, scale_equivalents_of};
 use plant::EffectKind;
-use quantized::quantization_candidates;
 use run::{Fitted, Folds};
 
 /// Progress of a diagnosis (argmin's `Observe`): the CLI draws a bar from it.
@@ -229,6 +235,8 @@ pub fn diagnose_observed(
     // The secondary ones join one at a time, only where the data determine them and they leave
     // the others determined (a mass per length freed beside two inertias can make all three
     // undetermined, and then none would absorb an inertia mismatch).
+    let primary = (Fitted { outcome: reference.outcome.clone() }, reference_free.clone());
+    let mut secondary_joined: Vec<String> = Vec::new();
     for name in mismatch::secondary_mismatch_parameters(model, &options.free) {
         let mut free = reference_free.clone();
         free.push(name.clone());
@@ -238,40 +246,58 @@ pub fn diagnose_observed(
         {
             reference = fit;
             reference_free = free;
-            mismatch.push(name);
+            mismatch.push(name.clone());
+            secondary_joined.push(name);
         }
     }
     observer.progress("baseline", 2, 2);
-    let localisation = localise(&data, &reference.outcome);
-    let start = reference.outcome.fitted.clone();
-    let wanted = |kind: EffectKind| options.only.is_empty() || options.only.contains(&kind);
-    let trials: Vec<Trial> =
-        catalog::trials(&start, &data, &localisation).into_iter().filter(|t| wanted(t.kind)).collect();
-    // Every candidate is refitted on half the record: it needs 10 readings a parameter there.
-    let parameters = reference_free.len() + trials.iter().map(|t| t.freed.len()).max().unwrap_or(0);
-    let residuals = data.n_samples() * data.n_outputs();
-    if residuals < 20 * parameters {
-        return Err(WorkflowError::TooShort { residuals, parameters, needed: 20 * parameters });
-    }
-    let score::Scores { mut candidates, noise, reference_likelihoods } = score::Scoring {
-        start: &start,
-        reference: &reference,
-        free: &reference_free,
+    // The secondary mismatch parameters weighed by the BIC of the whole account: with them and
+    // what the evidence chooses against them, or without them (module `secondary`).
+    let primary_mismatch: Vec<String> =
+        mismatch.iter().filter(|n| !secondary_joined.contains(n)).cloned().collect();
+    let assess = |r: &secondary::Reference| {
+        assess::Assess {
+            reference: &r.0,
+            free: &r.1,
+            raw: &raw,
+            data: &data,
+            folds: &folds,
+            options,
+            observer,
+        }
+        .run()
+    };
+    // The evidence's choice, and between two sensor scales that fit alike the one that asks
+    // less of the file, as the named effect is chosen below.
+    let first_choice = |a: &assess::Assessment, with: bool| {
+        let listed = if with { &mismatch } else { &primary_mismatch };
+        choose(&a.candidates, options.threshold).map(|i| {
+            rivals::closer_to_file(&a.candidates, i, model, listed, tolerance, options.threshold)
+                .map_or(i, |(j, _)| j)
+        })
+    };
+    let settled = secondary::Settle {
+        full: (reference, reference_free),
+        primary,
+        joined: &secondary_joined,
         data: &data,
-        folds: &folds,
-        options,
-        observer,
+        assess: &assess,
+        choose: &first_choice,
     }
-    .score(&trials);
-    // On a forced record, an effect acting through the dynamics must remove more than the
-    // recorded force's noise could let it take up.
-    let force_noise = force_noise::screen(&mut candidates, &trials, &reference.outcome, &data);
+    .settle()?;
+    let ((reference, reference_free), assessed, secondary) =
+        (settled.reference, settled.assessed, settled.weighed);
+    let mismatch = if settled.kept { mismatch } else { primary_mismatch };
+    let assess::Assessment {
+        localisation,
+        trials,
+        mut candidates,
+        noise,
+        reference_likelihoods,
+        force_noise,
+    } = assessed;
     let likelihoods = |outcome: &FitOutcome| noise.log_likelihoods(&outcome.first().residual(), None);
     let mismatch_gain = evidence::gain(&reference_likelihoods, &likelihoods(&baseline.outcome));
-    // Quantization: a lattice in the raw readings.
-    if wanted(EffectKind::SensorQuantization) {
-        candidates.extend(quantization_candidates(&start, &raw, &data, &reference, &reference_free)?);
-    }
     // A named effect is set against the model's own parameters it could stand for: if one of
     // them, refitted alone, explains the data as well (in sample, to within a nat), a parameter
     // mismatch is the simpler answer and nothing is named. The other candidates are not named
@@ -389,6 +415,7 @@ pub fn diagnose_observed(
         residual,
         mismatch_parameters: mismatch,
         mismatch_gain,
+        secondary,
         noise,
         candidates,
         chosen,

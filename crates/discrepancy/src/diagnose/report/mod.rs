@@ -26,6 +26,9 @@ pub struct DiagnosisReport<'a> {
     pub mismatch_parameters: &'a [String],
     /// In-sample gain of freeing them (nats).
     pub mismatch_gain: f64,
+    /// The mismatch parameters freed one at a time, weighed against the effect first chosen
+    /// ([`super::SecondaryMismatch`]); absent where there were none or nothing was chosen.
+    pub secondary_mismatch: Option<&'a super::SecondaryMismatch>,
     /// What the baseline's residual holds.
     pub residual: &'a ResidualStructure,
     /// The measurement model every candidate was scored under.
@@ -77,6 +80,7 @@ impl Diagnosis {
     /// The answer in words.
     pub fn answer(&self) -> Vec<String> {
         let mut out = self.verdict_sentences();
+        out.extend(self.secondary.as_ref().filter(|s| !s.kept).map(super::SecondaryMismatch::sentence));
         out.extend(self.force_noise_sentence());
         out.extend(self.glitch_sentence());
         out
@@ -140,6 +144,7 @@ impl Diagnosis {
             augmented_error: self.augmented_error(),
             mismatch_parameters: &self.mismatch_parameters,
             mismatch_gain: self.mismatch_gain,
+            secondary_mismatch: self.secondary.as_ref(),
             residual: &self.residual,
             noise: &self.noise,
             candidates: &self.candidates,

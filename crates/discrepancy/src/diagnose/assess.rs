@@ -1,0 +1,81 @@
+//! Everything a diagnosis finds against one reference: where the reference disagrees with the
+//! data, the catalog's trials at its fitted model, every candidate scored (steps 1–6 of the
+//! module's rule), the force-noise screen (step 9) and the quantization lattices. A diagnosis
+//! runs it once, or twice when the mismatch parameters the reference freed one at a time turn
+//! out not to be earned beside the chosen effect (module `secondary`).
+
+use super::catalog::{self, Trial};
+use super::evidence::NoiseModel;
+use super::quantized::quantization_candidates;
+use super::run::{Fitted, Folds};
+use super::{Candidate, DiagnoseOptions, Observe, force_noise, score};
+use crate::WorkflowError;
+use crate::frf::InputNoise;
+use crate::localise::{Localisation, localise};
+use mem::Measurement;
+use plant::EffectKind;
+
+/// One reference's assessment: the problem it was made from, its parts named.
+pub(super) struct Assess<'a> {
+    /// The reference every candidate is scored against.
+    pub reference: &'a Fitted,
+    /// Its free parameters, refitted in every candidate too.
+    pub free: &'a [String],
+    /// The record as read (for the quantization lattice).
+    pub raw: &'a Measurement,
+    /// The record as fitted (decimated if asked).
+    pub data: &'a Measurement,
+    /// Its two folds of alternate blocks.
+    pub folds: &'a Folds,
+    /// The bars a candidate must pass, and the kinds asked for.
+    pub options: &'a DiagnoseOptions,
+    /// Told of every refit that finishes.
+    pub observer: &'a dyn Observe,
+}
+
+/// What [`Assess::run`] finds.
+pub(super) struct Assessment {
+    /// Where the reference disagrees with the data.
+    pub localisation: Localisation,
+    /// The catalog's trials, in the order of the first candidates.
+    pub trials: Vec<Trial>,
+    /// One per trial, then the quantization candidates, each with its evidence and verdict so far.
+    pub candidates: Vec<Candidate>,
+    /// The measurement model every candidate was scored under.
+    pub noise: NoiseModel,
+    /// The reference's log-likelihood per output under `noise`.
+    pub reference_likelihoods: Vec<f64>,
+    /// On a forced record, the noise on its recorded inputs.
+    pub force_noise: Option<InputNoise>,
+}
+
+impl Assess<'_> {
+    /// Localises, scores every trial and screens the candidates.
+    ///
+    /// # Errors
+    /// A record too short for the largest refit, and failures of the lattice's reading.
+    pub(super) fn run(&self) -> Result<Assessment, WorkflowError> {
+        let Assess { reference, free, raw, data, folds, options, observer } = *self;
+        let localisation = localise(data, &reference.outcome);
+        let start = reference.outcome.fitted.clone();
+        let wanted = |kind: EffectKind| options.only.is_empty() || options.only.contains(&kind);
+        let trials: Vec<Trial> =
+            catalog::trials(&start, data, &localisation).into_iter().filter(|t| wanted(t.kind)).collect();
+        // Every candidate is refitted on half the record: it needs 10 readings a parameter there.
+        let parameters = free.len() + trials.iter().map(|t| t.freed.len()).max().unwrap_or(0);
+        let residuals = data.n_samples() * data.n_outputs();
+        if residuals < 20 * parameters {
+            return Err(WorkflowError::TooShort { residuals, parameters, needed: 20 * parameters });
+        }
+        let score::Scores { mut candidates, noise, reference_likelihoods } =
+            score::Scoring { start: &start, reference, free, data, folds, options, observer }.score(&trials);
+        // On a forced record, an effect acting through the dynamics must remove more than the
+        // recorded force's noise could let it take up.
+        let force_noise = force_noise::screen(&mut candidates, &trials, &reference.outcome, data);
+        // Quantization: a lattice in the raw readings.
+        if wanted(EffectKind::SensorQuantization) {
+            candidates.extend(quantization_candidates(&start, raw, data, reference, free)?);
+        }
+        Ok(Assessment { localisation, trials, candidates, noise, reference_likelihoods, force_noise })
+    }
+}

@@ -1,0 +1,214 @@
+//! The mismatch parameters the reference freed one at a time (step 4's secondary ones: a
+//! structure's fixed parameters, its masses say, and the slewing rig's mass per length), weighed
+//! against the effect the evidence chose.
+//!
+//! A mismatch is absorbed before any effect is tried, so that a wrong parameter is not named a
+//! missing effect. But a fixed parameter freed where the data determine it takes up part of
+//! whatever is missing, and what it cannot take up is all that is left for the effect. On a
+//! forced record with the force measured, a sensor that reads 3 % low is taken up by the masses
+//! (the response's size and the mode shapes at the two sensors move with them): the three masses
+//! gain 1,375 nats, the scale 34 on top of them — and a channel picking up another's signal then
+//! explains those 34 as well. Refitted without the masses, the one scale explains more than the
+//! three masses did (error 0.2622 against 0.2664), and the masses refitted beside it stay within
+//! 1.5 standard errors of the file's values.
+//!
+//! So the reference is chosen with the effect, by the BIC of the whole account: the reference
+//! with them and what the evidence chooses against it, or the reference without them and what
+//! it chooses there (every candidate scored anew, so that the effect competes with every other
+//! on the same terms). An account's value is its log-likelihood under one measurement model
+//! (the first assessment's) less k ln(m)/2 for its k free parameters over m residuals, the
+//! penalty of step 1 in nats. The one without them is assessed where the first chose nothing,
+//! or where they, refitted beside its choice, gain less than their charge; and it is kept where
+//! its value is the higher ([`SecondaryMismatch`]).
+
+use super::Candidate;
+use super::answer::SecondaryMismatch;
+use super::assess::Assessment;
+use super::catalog::Trial;
+use super::evidence::NoiseModel;
+use super::run::{self, Fitted};
+use crate::WorkflowError;
+use mem::Measurement;
+use models::FitOutcome;
+use plant::EffectKind;
+
+/// One account of the data: a reference, its free parameters' number, and what the evidence
+/// chose against it.
+pub(super) struct Account<'a> {
+    /// The reference.
+    pub reference: &'a Fitted,
+    /// Its free parameters' number.
+    pub free: usize,
+    /// The candidate chosen against it, if any.
+    pub chosen: Option<&'a Candidate>,
+}
+
+impl Account<'_> {
+    /// Its log-likelihood under `noise` (nats), and its parameters' number; `None` for a
+    /// quantization lattice, scored under a measurement model of its own, or a choice without a
+    /// refit.
+    fn value(&self, noise: &NoiseModel) -> Option<(f64, usize)> {
+        let total = |o: &FitOutcome| noise.log_likelihoods(&o.first().residual(), None).iter().sum::<f64>();
+        match self.chosen {
+            None => Some((total(&self.reference.outcome), self.free)),
+            Some(c) if c.kind == EffectKind::SensorQuantization => None,
+            Some(c) => Some((total(c.outcome.as_ref()?), self.free + c.parameters.len())),
+        }
+    }
+
+    fn label(&self) -> Option<String> {
+        self.chosen.map(|c| c.label.clone())
+    }
+}
+
+/// The two accounts weighed: `with` against `without`, both under `noise` over `m` residuals.
+pub(super) fn weigh(
+    parameters: &[String],
+    with: &Account<'_>,
+    without: &Account<'_>,
+    noise: &NoiseModel,
+    m: usize,
+) -> Option<SecondaryMismatch> {
+    let ((l_with, k_with), (l_without, k_without)) = (with.value(noise)?, without.value(noise)?);
+    let gain = l_with - l_without;
+    let charge = (k_with as f64 - k_without as f64) * (m as f64).ln() / 2.0;
+    Some(SecondaryMismatch {
+        parameters: parameters.to_vec(),
+        with: with.label(),
+        without: without.label(),
+        gain,
+        charge,
+        earned: gain > charge,
+        kept: gain > charge,
+    })
+}
+
+/// A candidate refitted against another reference (what the secondary parameters gain beside
+/// it is then read from [`weigh`]); `None` when the refit fails.
+fn refitted_from(
+    chosen: &Candidate,
+    trial: &Trial,
+    reference: &Fitted,
+    free: &[String],
+    data: &Measurement,
+) -> Option<Candidate> {
+    let fit = run::fit_trial(&reference.outcome.fitted, trial, free, data, None, 60).ok()?;
+    let mut c = chosen.clone();
+    c.parameters = run::effect_parameters(&fit.outcome, trial);
+    c.model = Some(fit.outcome.fitted.clone());
+    c.outcome = Some(fit.outcome);
+    Some(c)
+}
+
+/// A reference and its free parameters.
+pub(super) type Reference = (Fitted, Vec<String>);
+
+/// The reference a diagnosis is made against, and what it finds there.
+pub(super) struct Settled {
+    /// The reference.
+    pub reference: Reference,
+    /// Its assessment.
+    pub assessed: Assessment,
+    /// The accounts weighed, if any were.
+    pub weighed: Option<SecondaryMismatch>,
+    /// Whether the secondary parameters are in the reference.
+    pub kept: bool,
+}
+
+/// The problem of settling the reference: the two references, and how each is assessed and
+/// its choice made.
+pub(super) struct Settle<'a> {
+    /// The reference with the secondary parameters.
+    pub full: Reference,
+    /// The reference without them.
+    pub primary: Reference,
+    /// The secondary parameters.
+    pub joined: &'a [String],
+    /// The record as fitted.
+    pub data: &'a Measurement,
+    /// Assesses a reference.
+    pub assess: &'a dyn Fn(&Reference) -> Result<Assessment, WorkflowError>,
+    /// The evidence's choice in an assessment, the secondary parameters in its reference or not.
+    pub choose: &'a dyn Fn(&Assessment, bool) -> Option<usize>,
+}
+
+/// The account of reference `r` with `chosen`.
+fn account<'a>(r: &'a Reference, chosen: Option<&'a Candidate>) -> Account<'a> {
+    Account { reference: &r.0, free: r.1.len(), chosen }
+}
+
+impl Settle<'_> {
+    /// Starts from the better reference alone by the BIC, and assesses the other only where its
+    /// account could be the better: where the start's choice, refitted against it, is, or where
+    /// the start kept the secondary parameters and chose nothing (an effect may explain what
+    /// they took up). Of two assessments, the better account is kept — where the start chose an
+    /// effect, only if the other chose the same one.
+    ///
+    /// # Errors
+    /// Those of an assessment.
+    pub(super) fn settle(self) -> Result<Settled, WorkflowError> {
+        self.decide().map(|mut s| {
+            if let Some(w) = s.weighed.as_mut() {
+                w.kept = s.kept;
+            }
+            s
+        })
+    }
+
+    fn decide(self) -> Result<Settled, WorkflowError> {
+        let Settle { full, primary, joined, data, assess, choose } = self;
+        let m = data.n_samples() * data.n_outputs();
+        if joined.is_empty() {
+            let assessed = assess(&primary)?;
+            return Ok(Settled { reference: primary, assessed, weighed: None, kept: false });
+        }
+        let alone = {
+            let noise = NoiseModel::of(&full.0.outcome.first().residual());
+            weigh(joined, &account(&full, None), &account(&primary, None), &noise, m)
+        };
+        let with_first = alone.as_ref().is_none_or(|w| w.earned);
+        let (start, other) = if with_first { (full, primary) } else { (primary, full) };
+        let assessed = assess(&start)?;
+        let first = choose(&assessed, with_first);
+        // The two accounts, the one with the secondary parameters first.
+        let pair = |a: &Account<'_>, b: &Account<'_>, noise: &NoiseModel| {
+            if with_first { weigh(joined, a, b, noise, m) } else { weigh(joined, b, a, noise, m) }
+        };
+        let other_better = |w: &SecondaryMismatch| w.earned != with_first;
+        let beside = first.and_then(|i| {
+            let c =
+                refitted_from(&assessed.candidates[i], assessed.trials.get(i)?, &other.0, &other.1, data)?;
+            pair(&account(&start, Some(&assessed.candidates[i])), &account(&other, Some(&c)), &assessed.noise)
+        });
+        let try_other = match first {
+            None => with_first,
+            Some(_) => beside.as_ref().is_some_and(other_better),
+        };
+        let weighed = beside.or(alone);
+        if !try_other {
+            return Ok(Settled { reference: start, assessed, weighed, kept: with_first });
+        }
+        let other_assessed = assess(&other)?;
+        let second = choose(&other_assessed, !with_first);
+        // Where the start chose an effect, the other reference is weighed beside that effect
+        // only: an account with another effect was not chosen by the evidence that decides
+        // between effects (held out, on one reference), and the likelihood alone does not
+        // outrank it.
+        let label = |a: &Assessment, i: Option<usize>| i.map(|i| a.candidates[i].label.clone());
+        if first.is_some() && label(&assessed, first) != label(&other_assessed, second) {
+            return Ok(Settled { reference: start, assessed, weighed, kept: with_first });
+        }
+        let both = pair(
+            &account(&start, first.map(|i| &assessed.candidates[i])),
+            &account(&other, second.map(|i| &other_assessed.candidates[i])),
+            &assessed.noise,
+        );
+        Ok(match both {
+            Some(w) if other_better(&w) => {
+                Settled { reference: other, assessed: other_assessed, weighed: Some(w), kept: !with_first }
+            }
+            Some(w) => Settled { reference: start, assessed, weighed: Some(w), kept: with_first },
+            None => Settled { reference: start, assessed, weighed, kept: with_first },
+        })
+    }
+}
