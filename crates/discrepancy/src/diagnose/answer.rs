@@ -388,8 +388,8 @@ pub struct ScaleChoice {
     pub other_charge: f64,
 }
 
-/// The mismatch parameters the reference freed one at a time (a structure's fixed parameters,
-/// the slewing rig's mass per length), weighed by the BIC (module `secondary`): the account of
+/// The mismatch parameters the reference freed one at a time on a structure (its fixed
+/// parameters), weighed by the BIC (module `secondary`): the account of
 /// the data with them — the reference and what the evidence chose against it — against the
 /// account without them. Not earned, the account without them was kept: every candidate was
 /// scored against the reference without them.

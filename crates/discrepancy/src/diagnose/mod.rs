@@ -12,9 +12,8 @@
 //!    baseline does, by more than the threshold (held-out log-likelihood, [`evidence`]);
 //! 4. it still does so when the model's own linear parameters (modal damping, hub inertia,
 //!    beam stiffness and mass) are freed as well: a parameter mismatch is not a missing effect;
-//!    those freed one at a time where the data determine them (the slewing rig's mass per
-//!    length, a structure's fixed parameters such as its masses) are kept only where the
-//!    account with them — the reference and what the evidence chooses against it — beats the
+//!    on a structure, those freed one at a time where the data determine them (its fixed
+//!    parameters, such as its masses) are kept only where the account with them — the reference and what the evidence chooses against it — beats the
 //!    account without them by the BIC ([`SecondaryMismatch`], module `secondary`): a fixed
 //!    parameter freed takes up part of whatever is missing, and one effect that explains the
 //!    record better than three masses is the simpler account;
@@ -276,10 +275,18 @@ pub fn diagnose_observed(
                 .map_or(i, |(j, _)| j)
         })
     };
+    // On a structure only: the slewing rig's mass per length stays as it joined (weighed there
+    // too, it moved answers both ways on the slewing studies; docs/diagnose.md).
+    let weighed_here = model.as_structure().is_some();
+    let (primary, joined) = if weighed_here {
+        (primary, secondary_joined.clone())
+    } else {
+        ((Fitted { outcome: reference.outcome.clone() }, reference_free.clone()), Vec::new())
+    };
     let settled = secondary::Settle {
         full: (reference, reference_free),
         primary,
-        joined: &secondary_joined,
+        joined: &joined,
         data: &data,
         assess: &assess,
         choose: &first_choice,
@@ -287,7 +294,7 @@ pub fn diagnose_observed(
     .settle()?;
     let ((reference, reference_free), assessed, secondary) =
         (settled.reference, settled.assessed, settled.weighed);
-    let mismatch = if settled.kept { mismatch } else { primary_mismatch };
+    let mismatch = if settled.kept || !weighed_here { mismatch } else { primary_mismatch };
     let assess::Assessment {
         localisation,
         trials,
