@@ -277,12 +277,7 @@ pub fn diagnose_observed(
     };
     // On a structure only: the slewing rig's mass per length stays as it joined (weighed there
     // too, it moved answers both ways on the slewing studies; docs/diagnose.md).
-    let weighed_here = model.as_structure().is_some();
-    let (primary, joined) = if weighed_here {
-        (primary, secondary_joined.clone())
-    } else {
-        ((Fitted { outcome: reference.outcome.clone() }, reference_free.clone()), Vec::new())
-    };
+    let joined = if model.as_structure().is_some() { secondary_joined.clone() } else { Vec::new() };
     let settled = secondary::Settle {
         full: (reference, reference_free),
         primary,
@@ -294,7 +289,7 @@ pub fn diagnose_observed(
     .settle()?;
     let ((reference, reference_free), assessed, secondary) =
         (settled.reference, settled.assessed, settled.weighed);
-    let mismatch = if settled.kept || !weighed_here { mismatch } else { primary_mismatch };
+    let mismatch = if settled.kept { mismatch } else { primary_mismatch };
     let assess::Assessment {
         localisation,
         trials,

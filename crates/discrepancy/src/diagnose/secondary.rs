@@ -18,9 +18,11 @@
 //! it chooses there (every candidate scored anew, so that the effect competes with every other
 //! on the same terms). An account's value is its log-likelihood under one measurement model
 //! (the first assessment's) less k ln(m)/2 for its k free parameters over m residuals, the
-//! penalty of step 1 in nats. The one without them is assessed where the first chose nothing,
-//! or where they, refitted beside its choice, gain less than their charge; and it is kept where
-//! its value is the higher ([`SecondaryMismatch`]).
+//! penalty of step 1 in nats. The diagnosis starts from the better of the two references alone;
+//! the other is assessed too where its account could be the better — where the start's choice,
+//! refitted against it, makes the better account, or where the start kept them and chose nothing
+//! — and it is kept where its value is the higher and, if the start chose an effect, it chose the
+//! same one ([`SecondaryMismatch`]).
 
 use super::Candidate;
 use super::answer::SecondaryMismatch;
@@ -112,7 +114,7 @@ pub(super) struct Settled {
     pub assessed: Assessment,
     /// The accounts weighed, if any were.
     pub weighed: Option<SecondaryMismatch>,
-    /// Whether the secondary parameters are in the reference.
+    /// Whether the reference is the full one (always, where no secondary parameter joined).
     pub kept: bool,
 }
 
@@ -160,8 +162,8 @@ impl Settle<'_> {
         let Settle { full, primary, joined, data, assess, choose } = self;
         let m = data.n_samples() * data.n_outputs();
         if joined.is_empty() {
-            let assessed = assess(&primary)?;
-            return Ok(Settled { reference: primary, assessed, weighed: None, kept: false });
+            let assessed = assess(&full)?;
+            return Ok(Settled { reference: full, assessed, weighed: None, kept: true });
         }
         let alone = {
             let noise = NoiseModel::of(&full.0.outcome.first().residual());
