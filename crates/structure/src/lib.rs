@@ -113,7 +113,7 @@ mod scan;
 mod schema;
 mod write;
 
-pub use effects::{Effect, EffectKind};
+pub use effects::{Effect, EffectKind, StiffnessChange};
 pub use error::StructureError;
 pub use expr::{EvalError, Expr, ExprError};
 pub use model::{ForceLaw, ForceParts, StructureModel, is_structure_file};

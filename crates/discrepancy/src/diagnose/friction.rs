@@ -138,6 +138,7 @@ pub(super) fn fading(candidate: &Candidate, trial: &Trial, test: &FormTest) -> O
                     quintic: None,
                     sided: None,
                     rate: Some(0.0),
+                    change: None,
                 }
                 .into(),
             )

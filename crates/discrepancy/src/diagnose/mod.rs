@@ -136,7 +136,7 @@ mod spring;
 
 pub use answer::{
     AddedTerm, Candidate, Departures, Diagnosis, EffectParameter, Evidence, Moved, RIVAL_MARGIN, Rival,
-    SaturationKnee, ScaleChoice, SecondaryMismatch, SpringForm, SpringTerm, StaticPeak, Verdict,
+    SaturationKnee, ScaleChoice, SecondaryMismatch, SpringForm, SpringTerm, StaticPeak, TimeLaw, Verdict,
 };
 pub use force_noise::FORCE_NOISE_SHARE;
 pub use options::{
@@ -375,7 +375,10 @@ pub fn diagnose_observed(
             .into_iter()
             .filter_map(|(term, verdict)| term.filter(|t| t.demanded).map(|t| (t, verdict)))
             .max_by(|(a, _), (b, _)| a.gain.total_cmp(&b.gain));
-            if let Some((_, verdict)) = demanded {
+            // Or a stiffness that changes with time by a law of its own explains the record at
+            // least as well as the spring, charged for its parameters (a rival account).
+            let rival = form.time_law.as_ref().is_some_and(|law| law.as_well).then_some(Verdict::TimeVarying);
+            if let Some(verdict) = demanded.map(|(_, v)| v).or(rival) {
                 candidates[i].verdict = verdict;
                 return None;
             }

@@ -56,6 +56,22 @@ impl Effect {
                 Effect::SensorDrift { time_constant: Some(tau), .. } if *tau <= 0.0 => {
                     Some(format!("time_constant = {tau}: give a positive time constant [s]"))
                 }
+                Effect::CubicStiffness { change: Some(change), .. }
+                    if change.times.len() != change.values.len() =>
+                {
+                    Some(format!(
+                        "change: {} times and {} values; give one value per time",
+                        change.times.len(),
+                        change.values.len()
+                    ))
+                }
+                Effect::CubicStiffness { change: Some(change), .. }
+                    if change.times.is_empty()
+                        || change.times.iter().any(|t| !(t.is_finite() && *t > 0.0))
+                        || change.times.windows(2).any(|w| w[1] <= w[0]) =>
+                {
+                    Some("change: give one or more positive times [s], each after the one before".into())
+                }
                 Effect::Drag { exponent, .. } if *exponent < 1.0 => {
                     Some(format!("exponent = {exponent}: give an exponent of at least 1"))
                 }

@@ -31,7 +31,7 @@ impl Effect {
                     c * v * (v * v).powd((e - D::from(1.0)) * D::from(0.5))
                 }
             }
-            Effect::CubicStiffness { quadratic, quintic, sided, rate, .. } => {
+            Effect::CubicStiffness { quadratic, quintic, sided, rate, change, .. } => {
                 let q3 = q * q * q;
                 let mut f = theta[0] * q3;
                 let mut k = 1;
@@ -57,6 +57,14 @@ impl Effect {
                 }
                 if rate.is_some() {
                     f += theta[k] * D::from(t) * q;
+                    k += 1;
+                }
+                if let Some(change) = change {
+                    for (i, w) in change.weights(t) {
+                        if let Some(i) = i.filter(|_| w != 0.0) {
+                            f += theta[k + i] * D::from(w) * q;
+                        }
+                    }
                 }
                 f
             }

@@ -141,6 +141,11 @@ pub enum Effect {
         /// absent); a parameter `stiffness_rate_<coordinate>` when given.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         rate: Option<f64>,
+        /// Δk(t), a linear stiffness that changes over the record by a law of its own, piecewise
+        /// linear in t through (0, 0) and the given (tᵢ, Δkᵢ), constant after the last time:
+        /// f += Δk(t)·q (0 when absent); parameters `stiffness_change_<coordinate>_<i>`, i from 1.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        change: Option<StiffnessChange>,
     },
     /// A mode the model lacks, seen in every output with its own amplitude.
     UnmodeledMode {
@@ -155,6 +160,41 @@ pub enum Effect {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         driven_by: Option<String>,
     },
+}
+
+/// A law of change with time, piecewise linear through (0, 0) and (tᵢ, vᵢ) and constant after the
+/// last time (the `change` of [`Effect::CubicStiffness`]): the times are settings, the values
+/// parameters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StiffnessChange {
+    /// t₁ < t₂ < … \[s\], positive, from the release.
+    pub times: Vec<f64>,
+    /// vᵢ = Δk(tᵢ), one per time \[N/m\].
+    pub values: Vec<f64>,
+}
+
+impl StiffnessChange {
+    /// The law at zero at `times`.
+    pub fn zero(times: Vec<f64>) -> Self {
+        let values = vec![0.0; times.len()];
+        StiffnessChange { times, values }
+    }
+
+    /// The weights (wᵢ, w_{i+1}) of the two values at time `t` and the index i of the first, so
+    /// that Δk(t) = wᵢvᵢ + w_{i+1}v_{i+1} (the value before the first time is 0 at t = 0):
+    /// `None` for the first interval's zero end, and for t beyond the last time the last value
+    /// alone.
+    pub(crate) fn weights(&self, t: f64) -> [(Option<usize>, f64); 2] {
+        let n = self.times.len();
+        let i = self.times.partition_point(|&ti| ti <= t);
+        if i >= n {
+            return [(n.checked_sub(1), 1.0), (None, 0.0)];
+        }
+        let (t0, first) = if i == 0 { (0.0, None) } else { (self.times[i - 1], Some(i - 1)) };
+        let w = ((t - t0) / (self.times[i] - t0)).clamp(0.0, 1.0);
+        [(first, 1.0 - w), (Some(i), w)]
+    }
 }
 
 /// The kinds of [`Effect`].
@@ -252,12 +292,15 @@ impl Effect {
                 (format!("drag_{coordinate}"), *coefficient),
                 (format!("drag_exponent_{coordinate}"), *exponent),
             ],
-            Effect::CubicStiffness { coordinate, coefficient, quadratic, quintic, sided, rate } => {
+            Effect::CubicStiffness { coordinate, coefficient, quadratic, quintic, sided, rate, change } => {
                 let mut out = vec![(format!("cubic_{coordinate}"), *coefficient)];
                 out.extend(quadratic.map(|k2| (format!("quadratic_{coordinate}"), k2)));
                 out.extend(quintic.map(|k5| (format!("quintic_{coordinate}"), k5)));
                 out.extend(sided.map(|ks| (format!("sided_{coordinate}"), ks)));
                 out.extend(rate.map(|r| (format!("stiffness_rate_{coordinate}"), r)));
+                for (i, v) in change.iter().flat_map(|c| &c.values).enumerate() {
+                    out.push((format!("stiffness_change_{coordinate}_{}", i + 1), *v));
+                }
                 out
             }
             Effect::UnmodeledMode { frequency_hz, damping_ratio, amplitudes, .. } => {
@@ -291,12 +334,13 @@ impl Effect {
                 slots.extend(stribeck_velocity.as_mut());
                 *slots[k] = value;
             }
-            Effect::CubicStiffness { coefficient, quadratic, quintic, sided, rate, .. } => {
+            Effect::CubicStiffness { coefficient, quadratic, quintic, sided, rate, change, .. } => {
                 let mut slots: Vec<&mut f64> = vec![coefficient];
                 slots.extend(quadratic.as_mut());
                 slots.extend(quintic.as_mut());
                 slots.extend(sided.as_mut());
                 slots.extend(rate.as_mut());
+                slots.extend(change.iter_mut().flat_map(|c| c.values.iter_mut()));
                 *slots[k] = value;
             }
             Effect::Drag { coefficient, exponent, .. } => *[coefficient, exponent][k] = value,

@@ -248,6 +248,7 @@ pub(super) fn trials(
                     quintic: None,
                     sided: None,
                     rate: None,
+                    change: None,
                 },
                 format!("cubic_stiffness({c})"),
                 vec![(format!("cubic_{c}"), (-10.0 * k / (q * q), 10.0 * k / (q * q)))],
@@ -261,6 +262,7 @@ pub(super) fn trials(
                 quintic: None,
                 sided: None,
                 rate: None,
+                change: None,
             }),
         );
     }
