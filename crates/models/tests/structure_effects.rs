@@ -102,10 +102,8 @@ fn rk4_with(
     drag: (f64, f64),
     friction: (f64, f64, f64, f64),
 ) -> Vec<[f64; 3]> {
-    let (k, d) = building();
     let (cubic, others) = spring;
-    let rhs = |t: f64, x: &[f64; 6]| -> [f64; 6] {
-        let (q, v) = ([x[0], x[1], x[2]], [x[3], x[4], x[5]]);
+    integrate(k_samples, h, |t, q, v| {
         let mut f = [0.0; 3];
         f[0] -= cubic * q[0].powi(3)
             + others
@@ -116,6 +114,21 @@ fn rk4_with(
         f[2] -= drag.0 * v[2] * v[2].abs().powf(drag.1 - 1.0);
         let level = friction.0 + friction.2 * (-(v[1] / friction.3).powi(2)).exp();
         f[1] -= level * v[1] / (v[1] * v[1] + friction.1 * friction.1).sqrt();
+        f
+    })
+}
+
+/// RK4 with a fine fixed step of the nominal building released from q(0) = (0.01, 0.02, 0.03) m
+/// with the forces `forces(t, q, q̇)` added: q1, q3, and the acceleration of q3 at every `h`.
+fn integrate(
+    k_samples: usize,
+    h: f64,
+    forces: impl Fn(f64, [f64; 3], [f64; 3]) -> [f64; 3],
+) -> Vec<[f64; 3]> {
+    let (k, d) = building();
+    let rhs = |t: f64, x: &[f64; 6]| -> [f64; 6] {
+        let (q, v) = ([x[0], x[1], x[2]], [x[3], x[4], x[5]]);
+        let f = forces(t, q, v);
         let mut out = [v[0], v[1], v[2], 0.0, 0.0, 0.0];
         for i in 0..3 {
             let force: f64 = f[i] - (0..3).map(|j| k[i][j] * q[j] + d[i][j] * v[j]).sum::<f64>();
@@ -278,6 +291,68 @@ fn force_sensitivities_are_central_differences() {
     let out = respond(response.as_ref(), &p, k, h);
     for i in 0..free.len() {
         assert_central_differences(response.as_ref(), &p, &out, i, h, 1e-5);
+    }
+}
+
+/// A linear stiffness at q1 that changes with time by a law of its own: Δk(t) rises from 0 to
+/// −2·10⁵ N/m at 0.3 s, then to +10⁵ at 0.8 s, and stays there (f += Δk(t)·q1).
+const CHANGE: &str = "CubicStiffness(coordinate: \"q1\", coefficient: 0, \
+     change: Some((times: [0.3, 0.8], values: [-2e5, 1e5])))";
+
+/// [`CHANGE`]'s law written out here: piecewise linear through (0, 0), (0.3, −2e5), (0.8, 1e5).
+fn change_law(t: f64) -> f64 {
+    if t <= 0.3 {
+        -2e5 * t / 0.3
+    } else if t <= 0.8 {
+        -2e5 + 3e5 * (t - 0.3) / 0.5
+    } else {
+        1e5
+    }
+}
+
+#[test]
+fn a_stiffness_that_changes_with_time_follows_its_law() {
+    let model = with_effects(CHANGE);
+    assert!(!model.is_linear());
+    let names = model.parameter_names();
+    assert!(
+        names.iter().any(|n| n == "stiffness_change_q1_1")
+            && names.iter().any(|n| n == "stiffness_change_q1_2")
+    );
+    let (k, h) = (300, 0.005);
+    let reference = integrate(k, h, |t, q, _| [-change_law(t) * q[0], 0.0, 0.0]);
+    let out = respond(model.response(&[]).unwrap().as_ref(), &[], k, h);
+    let (worst, peak) = worst_against(&out, &reference);
+    assert!(worst < 1e-5 * peak, "worst {worst:e} against a peak {peak:e}");
+    // The law acts: the bare building is far from it.
+    let plain = integrate(k, h, |_, _, _| [0.0; 3]);
+    let apart = (0..k).map(|s| (plain[s][0] - reference[s][0]).abs()).fold(0.0, f64::max);
+    assert!(apart > 1e3 * worst, "the law changes the response by {apart:e} only");
+    // Its values' sensitivities, beside k1's, are the derivatives of the response.
+    let free = ["k1", "stiffness_change_q1_1", "stiffness_change_q1_2"];
+    let response = model.response(&free).unwrap();
+    let p: Vec<f64> = free.iter().map(|n| model.value(n).unwrap()).collect();
+    let out = respond(response.as_ref(), &p, k, h);
+    for i in 0..free.len() {
+        assert_central_differences(response.as_ref(), &p, &out, i, h, 1e-5);
+    }
+}
+
+#[test]
+fn a_law_in_time_without_ordered_positive_times_is_refused() {
+    for (law, says) in [
+        ("(times: [0.3, 0.8], values: [1e5])", "one value per time"),
+        ("(times: [0.8, 0.3], values: [1e5, 2e5])", "each after the one before"),
+        ("(times: [0.0], values: [1e5])", "positive times"),
+        ("(times: [], values: [])", "one or more"),
+    ] {
+        let text = FILE.trim_end().trim_end_matches(')').to_string()
+            + &format!(
+                "    effects: [CubicStiffness(coordinate: \"q1\", coefficient: 0, change: Some({law}))],\n)\n"
+            );
+        let error = Model::from_ron(&text, "building.ron").err().expect("refused").to_string();
+        assert!(error.contains(says) && error.contains("building.ron"), "{law}: {error}");
+        assert_eq!(error.lines().count(), 1, "{error}");
     }
 }
 

@@ -445,20 +445,32 @@ pub struct SecondaryMismatch {
 }
 
 impl SecondaryMismatch {
-    /// In words.
+    /// In words (the answer says it where they were left out).
     pub fn sentence(&self) -> String {
         let one = self.parameters.len() == 1;
         let account = |e: &Option<String>| e.clone().unwrap_or_else(|| "no effect".into());
+        let why = if self.earned {
+            // Earned, and left out all the same: the evidence, against the reference with them,
+            // did not choose the effect it chose without them (module `secondary`).
+            format!(
+                "more than the {:.1} their charge asks, but against the reference with {} the evidence did not \
+                 choose {}",
+                self.charge,
+                if one { "it" } else { "them" },
+                account(&self.with)
+            )
+        } else {
+            format!("less than the {:.1} their charge asks", self.charge)
+        };
         format!(
-            "the model's fixed {} freed with {} gain{} {:.1} nats over {} without {}, less than the {:.1} \
-             their charge asks: {} kept at the file's value{}, and every candidate was scored against that model",
+            "the model's fixed {} freed with {} gain{} {:.1} nats over {} without {}, {why}: {} kept at the \
+             file's value{}, and every candidate was scored against that model",
             self.parameters.join(", "),
             account(&self.with),
             if one { "s" } else { "" },
             self.gain,
             account(&self.without),
             if one { "it" } else { "them" },
-            self.charge,
             if one { "it is" } else { "they are" },
             if one { "" } else { "s" },
         )

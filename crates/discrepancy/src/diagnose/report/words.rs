@@ -261,8 +261,32 @@ impl Diagnosis {
                                     None => format!("{:?}", best.verdict),
                                 }
                             }
-                            Verdict::Asymmetric | Verdict::TimeVarying => match &self.spring {
-                                Some(form) => {
+                            Verdict::Asymmetric | Verdict::TimeVarying => match self.spring.as_ref().map(|form| {
+                                // The rival law in time, where it (and not a term beside the
+                                // spring) set the spring aside.
+                                let law = form.time_law.as_ref().filter(|law| {
+                                    law.as_well && !form.changing.demanded && best.verdict == Verdict::TimeVarying
+                                });
+                                (form, law)
+                            }) {
+                                Some((_, Some(law))) => {
+                                    format!(
+                                        "predictive on held-out blocks ({:.1} nats in sample), but a linear stiffness \
+                                         at its coordinate that changes with time by a law of its own ({} values, \
+                                         piecewise linear to {:.2} s), in place of the spring, explains the record as \
+                                         well ({:.1} nats in sample, the spring {:.1} with its quintic; the spring must \
+                                         explain {:.0} more) — a stiffness lost or gained during the record (a storey \
+                                         that degrades and settles, or drops in a step) that the spring's change with \
+                                         amplitude follows as the motion decays",
+                                        best.evidence.in_sample,
+                                        law.values.len(),
+                                        law.times.last().copied().unwrap_or(0.0),
+                                        law.gain,
+                                        law.spring_gain,
+                                        self.threshold
+                                    )
+                                }
+                                Some((form, None)) => {
                                     let asymmetric =
                                         form.asymmetric.as_ref().filter(|_| best.verdict == Verdict::Asymmetric);
                                     let (term, what, kind) = if let Some(asymmetric) = asymmetric {
