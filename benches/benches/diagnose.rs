@@ -15,7 +15,10 @@
 //! samples, two outputs) and a whole diagnosis of the building shaken on the roof with a driven
 //! appendage (`fixtures/independent/forced/appendage_q3.csv`), and of one whose q3 sensor reads
 //! 1 % low (`scale_q3_small.csv`), which the diagnosis assesses twice, with the masses and
-//! without them.
+//! without them. A named spring's form test, with its rival law in time (eight more
+//! parameters refitted from the reference): the building whose storey-1 spring hardens
+//! (`cubic_q1.csv`, the spring named) and whose storey-2 spring loses stiffness early and
+//! settles (`settling_q2.csv`, the spring set aside for the law).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use discrepancy::{DiagnoseOptions, diagnose, quantization};
@@ -49,6 +52,12 @@ fn bench_diagnose(c: &mut Criterion) {
     group.bench_function("diagnose/shear_building_quant_after_q3", |b| {
         b.iter(|| diagnose(black_box(&model), &data, &options).unwrap())
     });
+    for case in ["cubic_q1", "settling_q2"] {
+        let data = mem::Measurement::read_csv(&fixture(&format!("independent/effects/{case}.csv"))).unwrap();
+        group.bench_function(format!("diagnose/shear_building_{case}"), |b| {
+            b.iter(|| diagnose(black_box(&model), &data, &options).unwrap())
+        });
+    }
     group.finish();
 }
 

@@ -66,7 +66,13 @@
 //!    time, which one free decay's falling amplitude lets a hardening spring absorb — physics
 //!    outside the catalog that a symmetric cubic would otherwise stand in for; the quintic
 //!    takes up what a symmetric spring of another form leaves, so that only asymmetry, or
-//!    change with time, is left for the term.
+//!    change with time, is left for the term. And a structure's spring must explain the record
+//!    better, by the threshold in sample, than its rival account: no spring, but the linear
+//!    stiffness at its coordinate changing with time by a law of its own, Δk(t)·q_c piecewise
+//!    linear through (0, 0) and eight evenly spaced times ([`TimeLaw`]; where
+//!    it does not, [`Verdict::TimeVarying`]). A storey that loses stiffness early and settles,
+//!    or drops in a step, is not a rate k₁′·t, and the spring's change with amplitude follows it
+//!    as the motion decays; what only a spring holds is its distortion of each cycle.
 //! 9. on a forced record, an effect that acts through the dynamics (not a sensor's) removes at
 //!    least [`FORCE_NOISE_SHARE`] (half) of what the noise on the recorded force accounts for
 //!    in the residual its own refit leaves ([`Verdict::WithinForceNoise`], module
