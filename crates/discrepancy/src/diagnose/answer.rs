@@ -214,35 +214,32 @@ pub struct SpringForm {
     /// during the record (a storey that degrades, a motor's torque constant that fades) rather
     /// than with amplitude ([`Verdict::TimeVarying`]).
     pub changing: SpringTerm,
-    /// A structure spring's rival account: no spring, but the linear stiffness at its coordinate
-    /// changing with time by a law of its own. `None` for the slewing rig's hub spring, or when
-    /// its refit fails.
-    pub time_law: Option<TimeLaw>,
+    /// In-sample gain of the spring with its quintic over the reference (nats): the spring's
+    /// account, set against [`TimeLaw`].
+    pub gain: f64,
 }
 
-/// The rival to a named structure spring k₃q_c³ (with its quintic k₅q_c⁵): no spring, but a
-/// linear stiffness at the same coordinate that changes with time by a law of its own, Δk(t)·q_c
-/// with Δk piecewise linear through (0, 0) and evenly spaced times to the record's end (the
-/// `change` of [`structure::Effect::CubicStiffness`]). In a free decay the amplitude falls as
-/// time passes, so a stiffness lost early in the record (a storey that degrades and settles, or
-/// that drops in a step) is what a hardening spring's change with amplitude also gives; what
-/// only the spring holds is its distortion of each cycle, which no law in time makes. The
-/// spring keeps its name only where it explains the record better than the law by the
-/// held-out threshold, in sample; else it is set aside ([`Verdict::TimeVarying`]). The law is
-/// not charged for its extra parameters: the spring is the catalog's name, and it must be earned
-/// against the out-of-catalog account that holds all a change with time does.
+/// The rival to a named structure force (module `time_law`): no such force, but a linear
+/// stiffness at one of the structure's coordinates that changes with time by a law of its own,
+/// Δk(t)·q_j with Δk piecewise linear through (0, 0) and evenly spaced times to the record's end
+/// (the `change` of [`structure::Effect::CubicStiffness`]), the best of every coordinate's. The
+/// named force keeps its name only where it explains the record better than the law by the
+/// held-out threshold in sample; else it is set aside ([`Verdict::TimeVarying`]).
 #[derive(Clone, Debug, Serialize)]
 pub struct TimeLaw {
+    /// The coordinate q_j it acts at.
+    pub coordinate: String,
     /// The law's times tᵢ \[s from the release\].
     pub times: Vec<f64>,
     /// Δk(tᵢ), refitted from the reference (`stiffness_change_<c>_<i>`).
     pub values: Vec<EffectParameter>,
     /// In-sample gain of the law alone over the reference (nats).
     pub gain: f64,
-    /// In-sample gain of the spring with its quintic over the reference (nats).
-    pub spring_gain: f64,
-    /// Whether the law explains the record as well as the spring: `spring_gain − gain` short of
-    /// the held-out threshold. Then the spring is set aside.
+    /// In-sample gain of the named force's account over the reference (nats): a spring with its
+    /// quintic, a drag or a friction as refitted.
+    pub effect_gain: f64,
+    /// Whether the law explains the record as well as the named force: `effect_gain − gain`
+    /// short of the held-out threshold. Then the force is set aside.
     pub as_well: bool,
 }
 
@@ -521,6 +518,11 @@ pub struct Diagnosis {
     /// beside it ([`SpringForm`]). `None` otherwise,
     /// also when a rival unseated the spring first (the test is not run then).
     pub spring: Option<SpringForm>,
+    /// For a structure force (`cubic_stiffness`, `quadratic_drag`, `coulomb_friction`) named, or
+    /// set aside for it as [`Verdict::TimeVarying`]: the rival of a linear stiffness that changes
+    /// with time by a law of its own ([`TimeLaw`]). `None` otherwise, also where a test before
+    /// it set the force aside.
+    pub time_law: Option<TimeLaw>,
     /// For a named `coulomb_friction` on the slewing rig: its static peak refitted beside it
     /// ([`StaticPeak`]); `None` otherwise, or when a refit failed.
     pub static_peak: Option<StaticPeak>,

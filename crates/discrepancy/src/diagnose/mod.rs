@@ -66,13 +66,7 @@
 //!    time, which one free decay's falling amplitude lets a hardening spring absorb — physics
 //!    outside the catalog that a symmetric cubic would otherwise stand in for; the quintic
 //!    takes up what a symmetric spring of another form leaves, so that only asymmetry, or
-//!    change with time, is left for the term. And a structure's spring must explain the record
-//!    better, by the threshold in sample, than its rival account: no spring, but the linear
-//!    stiffness at its coordinate changing with time by a law of its own, Δk(t)·q_c piecewise
-//!    linear through (0, 0) and eight evenly spaced times ([`TimeLaw`]; where
-//!    it does not, [`Verdict::TimeVarying`]). A storey that loses stiffness early and settles,
-//!    or drops in a step, is not a rate k₁′·t, and the spring's change with amplitude follows it
-//!    as the motion decays; what only a spring holds is its distortion of each cycle.
+//!    change with time, is left for the term.
 //! 9. on a forced record, an effect that acts through the dynamics (not a sensor's) removes at
 //!    least [`FORCE_NOISE_SHARE`] (half) of what the noise on the recorded force accounts for
 //!    in the residual its own refit leaves ([`Verdict::WithinForceNoise`], module
@@ -93,6 +87,17 @@
 //! friction is set against a stiffness at its coordinate that changes with time, −k₁′·t·q_c:
 //! where k₁′, determined, gains more beside the friction than the friction itself gained (and
 //! the threshold), the friction stands in for a storey that degrades.
+//!
+//! A structure force that is named (a spring, a drag, a dry friction) must then explain the
+//! record better, by the threshold in sample, than its rival account: no such force, but a
+//! linear stiffness at one of the coordinates changing with time by a law of its own,
+//! Δk(t)·q_j piecewise linear through (0, 0) and eight evenly spaced times, the best of every
+//! coordinate's ([`TimeLaw`], module `time_law`; where it does not, [`Verdict::TimeVarying`]).
+//! A storey that loses stiffness early and settles, or drops in a step, is not a rate k₁′·t,
+//! and a spring's change with amplitude follows it as a free decay dies out; a drag at another
+//! floor took up a storey degrading under a shaking. What only the force holds is what no law
+//! in time makes: a spring's distortion within each cycle, a damping that changes with the
+//! amplitude.
 //!
 //! A named dry friction on the slewing rig is then refitted with a static peak beside it,
 //! τ = −(F_c + ΔF e^{−(θ̇/v_st)²}) tanh(θ̇/v_s) (Stribeck; Armstrong-Hélouvry, Dupont & Canudas de
@@ -139,6 +144,7 @@ mod schedule;
 mod score;
 mod secondary;
 mod spring;
+mod time_law;
 
 pub use answer::{
     AddedTerm, Candidate, Departures, Diagnosis, EffectParameter, Evidence, Moved, RIVAL_MARGIN, Rival,
@@ -316,6 +322,7 @@ pub fn diagnose_observed(
     let mut scale_equivalents = Vec::new();
     let mut rivals = Vec::new();
     let mut spring = None;
+    let mut time_law = None;
     let mut static_peak = None;
     let mut fading = None;
     let mut saturation_knee = None;
@@ -381,10 +388,7 @@ pub fn diagnose_observed(
             .into_iter()
             .filter_map(|(term, verdict)| term.filter(|t| t.demanded).map(|t| (t, verdict)))
             .max_by(|(a, _), (b, _)| a.gain.total_cmp(&b.gain));
-            // Or a stiffness that changes with time by a law of its own explains the record at
-            // least as well as the spring, charged for its parameters (a rival account).
-            let rival = form.time_law.as_ref().is_some_and(|law| law.as_well).then_some(Verdict::TimeVarying);
-            if let Some(verdict) = demanded.map(|(_, v)| v).or(rival) {
+            if let Some((_, verdict)) = demanded {
                 candidates[i].verdict = verdict;
                 return None;
             }
@@ -395,6 +399,17 @@ pub fn diagnose_observed(
         // constant that fades, outside the catalog)?
         fading = friction::fading(&candidates[i], trial, &test);
         if fading.as_ref().is_some_and(|t| t.demanded) {
+            candidates[i].verdict = Verdict::TimeVarying;
+            return None;
+        }
+        // A structure force set against a stiffness that changes with time by a law of its own,
+        // at any coordinate: it must explain the record better (module `time_law`).
+        let effect_gain = match &spring {
+            Some(form) => Some(form.gain),
+            None => candidates[i].outcome.as_ref().map(&gain),
+        };
+        time_law = effect_gain.and_then(|g| time_law::rival(&candidates[i], trial, &test, g));
+        if time_law.as_ref().is_some_and(|law| law.as_well) {
             candidates[i].verdict = Verdict::TimeVarying;
             return None;
         }
@@ -436,6 +451,7 @@ pub fn diagnose_observed(
         force_noise,
         rivals,
         spring,
+        time_law,
         static_peak,
         fading,
         saturation_knee,

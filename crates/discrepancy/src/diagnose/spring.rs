@@ -40,7 +40,7 @@
 //! refinement takes up first, so that what k₂ or k₁′ gain beside it is the asymmetry or the
 //! change with time.
 
-use super::answer::{SpringForm, SpringTerm, TimeLaw};
+use super::answer::{SpringForm, SpringTerm};
 use super::catalog::Trial;
 use super::named::FormTest;
 use super::{Candidate, EffectParameter, mismatch, run};
@@ -113,24 +113,9 @@ pub(super) fn form(candidate: &Candidate, trial: &Trial, test: &FormTest) -> Opt
             from.set_bounds(&quintic, symmetric(limit(scales.k, scales.q, 4))).ok()?;
             from.set_bounds(&sided, symmetric(limit(scales.k, scales.q, 4))).ok()?;
             from.set_bounds(&rate, symmetric(0.5 * scales.k / last_time)).ok()?;
-            let (found, law) = rayon::join(
-                || terms(&from, trial, test, &quintic, [&quadratic, &sided, &rate]),
-                || law_fit(test, coordinate, scales.k, last_time),
-            );
-            let ([low, high, changing], spring_gain) = found?;
-            let time_law = law.map(|(times, outcome)| {
-                let gain = (test.gain)(&outcome);
-                let values = law_names(coordinate, times.len())
-                    .iter()
-                    .filter_map(|name| {
-                        let i = outcome.report.names.iter().position(|n| n == name)?;
-                        let (value, std_error) = (outcome.report.parameters[i], outcome.report.std_error(i));
-                        Some(EffectParameter { name: name.clone(), value, std_error })
-                    })
-                    .collect();
-                TimeLaw { times, values, gain, spring_gain, as_well: spring_gain - gain < test.threshold }
-            });
-            Some(SpringForm { asymmetric: Some(one_sided(low, high)), changing, time_law })
+            let ([low, high, changing], gain) =
+                terms(&from, trial, test, &quintic, [&quadratic, &sided, &rate])?;
+            Some(SpringForm { asymmetric: Some(one_sided(low, high)), changing, gain })
         }
         models::ModelEffect::Slewing(plant::Effect::CubicStiffness {
             linear,
@@ -150,12 +135,12 @@ pub(super) fn form(candidate: &Candidate, trial: &Trial, test: &FormTest) -> Opt
             let mut from = test.reference_with(effect.into(), fitted, &trial.bounds)?;
             from.set_bounds(&quintic, symmetric(limit(k, q, 4))).ok()?;
             from.set_bounds(&rate, symmetric(k / last_time)).ok()?;
-            let ([mut changing], _) = terms(&from, trial, test, &quintic, [&rate])?;
+            let ([mut changing], gain) = terms(&from, trial, test, &quintic, [&rate])?;
             // A servo loses stiffness as its motor warms (the magnets' flux and so K_t fall, the
             // winding's resistance rises); a stiffness gained with time is what the rate takes
             // up of another effect beside the spring (an unmodeled drag: +11 and +64 nats).
             changing.demanded &= changing.parameter.value < 0.0;
-            Some(SpringForm { asymmetric: None, changing, time_law: None })
+            Some(SpringForm { asymmetric: None, changing, gain })
         }
         _ => None,
     }
@@ -178,43 +163,6 @@ fn one_sided(low: SpringTerm, high: SpringTerm) -> SpringTerm {
 pub(super) fn record_end(data: &mem::Measurement) -> Option<f64> {
     let end = data.start() + data.interval() * data.n_samples().saturating_sub(1) as f64;
     (end > 0.0 && end.is_finite()).then_some(end)
-}
-
-/// The times of the rival law in time ([`TimeLaw`]): it changes from the release, piecewise
-/// linear through this many evenly spaced times to the record's end (1.25 s apart on a 10 s
-/// record: a few cycles of a building's lowest mode, so that it follows a change over the record
-/// and not the change within a cycle a spring makes).
-pub(super) const LAW_TIMES: usize = 8;
-
-/// `stiffness_change_<c>_<i>`, i = 1 … n.
-fn law_names(coordinate: &str, n: usize) -> Vec<String> {
-    (1..=n).map(|i| format!("stiffness_change_{coordinate}_{i}")).collect()
-}
-
-/// The reference with no spring but a linear stiffness at `coordinate` that changes with time
-/// ([`TimeLaw`]), refitted from the reference's own fit with the law's values within ±k/2 (at
-/// most half the coordinate's stiffness k_cc gained or lost): its times and the outcome. `None`
-/// if the refit fails.
-fn law_fit(test: &FormTest, coordinate: &str, k: f64, end: f64) -> Option<(Vec<f64>, models::FitOutcome)> {
-    let times: Vec<f64> = (1..=LAW_TIMES).map(|i| end * i as f64 / LAW_TIMES as f64).collect();
-    let effect = structure::Effect::CubicStiffness {
-        coordinate: coordinate.to_string(),
-        coefficient: 0.0,
-        quadratic: None,
-        quintic: None,
-        sided: None,
-        rate: None,
-        change: Some(structure::StiffnessChange::zero(times.clone())),
-    };
-    let mut model = test.reference.clone();
-    model.add_effect(effect.into()).ok()?;
-    let names = law_names(coordinate, times.len());
-    for name in &names {
-        model.set_bounds(name, symmetric(0.5 * k)).ok()?;
-    }
-    let free: Vec<String> = test.free.iter().chain(&names).cloned().collect();
-    let outcome = run::refit_to(&model, test.data, &free, None, 60, run::Precision::Optimum).ok()?;
-    Some((times, outcome))
 }
 
 /// (−r, r).

@@ -35,6 +35,28 @@ fn forces_in_a_forced_record_are_named_at_their_floor() {
     assert_eq!(named("drag_q3"), "quadratic_drag(q3)");
 }
 
+/// A record of the structure study (`studies/structure/generate.py --set held --seed 20261305
+/// --forced`, case `C_degrading_medium_s0`, copied as `study_degrading_q1.csv`): storey 1 loses
+/// 5 % of its stiffness linearly over the 10 s record, outside the catalog. A drag at the roof
+/// stood in for it (192 nats held out) and was named; a linear stiffness that changes with
+/// time by a law of its own, put in the drag's place at each floor, explains the record better
+/// at q1 — the storey that degrades — so nothing is named, and the law found is a loss that
+/// grows through the record.
+#[test]
+fn a_storey_that_degrades_under_the_shaking_is_not_named_a_drag() {
+    let d = run("study_degrading_q1");
+    assert!(d.named().is_none(), "{:?}", d.answer());
+    let set_aside = d.candidates.iter().find(|c| c.verdict == discrepancy::Verdict::TimeVarying);
+    assert!(set_aside.is_some_and(|c| c.label.starts_with("quadratic_drag(")), "{:?}", d.answer());
+    let law = d.time_law.as_ref().expect("the drag weighed against a law in time");
+    assert!(law.as_well && law.gain > law.effect_gain + 10.0 * d.threshold, "{law:?}");
+    assert_eq!(law.coordinate, "q1", "{law:?}");
+    let resolved_loss = |v: &discrepancy::diagnose::EffectParameter| v.std_error.is_some_and(|se| v.value < -3.0 * se);
+    let (early, late) = (&law.values[1], &law.values[6]);
+    assert!(resolved_loss(early) && resolved_loss(late) && late.value < 2.0 * early.value, "a growing loss: {law:?}");
+    assert!(d.answer().iter().any(|s| s.contains("a law of its own")), "{:?}", d.answer());
+}
+
 /// The appendage is driven through the roof from rest: the mode the catalog offers on a forced
 /// record is the input's response, seeded at a peak of the residual's frequency response.
 #[test]

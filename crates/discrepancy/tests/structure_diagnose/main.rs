@@ -139,8 +139,8 @@ fn a_hardening_storey_spring_is_a_cubic_spring_at_its_floor() {
     assert_eq!(form.changing.parameter.name, "stiffness_rate_q1");
     assert!(!form.changing.demanded, "{form:?}");
     // And a law in time in its place explains far less: the spring distorts each cycle.
-    let law = form.time_law.as_ref().expect("a structure's spring is weighed against a law in time");
-    assert!(!law.as_well && law.spring_gain > law.gain + 100.0 * d.threshold, "{law:?}");
+    let law = d.time_law.as_ref().expect("a structure's spring is weighed against a law in time");
+    assert!(!law.as_well && law.effect_gain > law.gain + 100.0 * d.threshold, "{law:?}");
 }
 
 /// The roof meets a Hertzian stop on one side (f = 9e7 (q3 − 0.0195)^1.5 while q3 > 0.0195 m,
@@ -205,8 +205,8 @@ fn a_storey_that_settles_early_is_not_named_a_hardening_spring() {
     assert!(c.label.starts_with("cubic_stiffness("), "{}", c.label);
     let form = d.spring.as_ref().expect("tested");
     assert!(!form.changing.demanded, "the rate alone does not see it: {form:?}");
-    let law = form.time_law.as_ref().expect("weighed against a law in time");
-    assert!(law.as_well && law.gain > law.spring_gain, "{law:?}");
+    let law = d.time_law.as_ref().expect("weighed against a law in time");
+    assert!(law.as_well && law.gain > law.effect_gain, "{law:?}");
     let resolved_loss =
         |v: &discrepancy::diagnose::EffectParameter| v.std_error.is_some_and(|se| v.value < -3.0 * se);
     assert!(law.values[..4].iter().all(resolved_loss), "a loss: {law:?}");
@@ -221,8 +221,8 @@ fn a_storey_that_settles_early_is_not_named_a_hardening_spring() {
 fn a_storey_stiffness_lost_in_a_step_is_not_named_a_hardening_spring() {
     let d = run("step_loss_q3");
     assert!(d.named().is_none(), "{:?}", d.answer());
-    let form = d.spring.as_ref().expect("a spring stood in for it and was tested");
-    let law = form.time_law.as_ref().expect("weighed against a law in time");
+    assert!(d.spring.is_some(), "a spring stood in for it and was tested: {:?}", d.answer());
+    let law = d.time_law.as_ref().expect("weighed against a law in time");
     assert!(law.as_well, "{law:?}");
     let (before, after) = (&law.values[0], &law.values[2]);
     assert!(after.std_error.is_some_and(|se| after.value < -3.0 * se), "{law:?}");

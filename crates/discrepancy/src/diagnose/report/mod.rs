@@ -60,10 +60,10 @@ pub struct DiagnosisReport<'a> {
     /// that changes with time, k₁′·t·q, refitted beside it, and whether the data demand it;
     /// absent otherwise.
     pub changing_spring: Option<&'a super::SpringTerm>,
-    /// For a structure's spring as above: the rival account of a linear stiffness at its
-    /// coordinate that changes with time by a law of its own, in place of the spring, and
-    /// whether it explains the record at least as well; absent otherwise.
-    pub spring_time_law: Option<&'a super::TimeLaw>,
+    /// For a structure force named (or set aside for it): the rival account of a linear
+    /// stiffness at a coordinate that changes with time by a law of its own, in place of the
+    /// force, and whether it explains the record as well; absent otherwise.
+    pub time_law: Option<&'a super::TimeLaw>,
     /// For a named `coulomb_friction` on the slewing rig: its static (Stribeck) peak refitted
     /// beside it, and whether the data demand it — demanded, the named friction carries it;
     /// absent otherwise.
@@ -159,7 +159,7 @@ impl Diagnosis {
             rival_mismatches: &self.rivals,
             asymmetric_spring: self.spring.as_ref().and_then(|f| f.asymmetric.as_ref()),
             changing_spring: self.spring.as_ref().map(|f| &f.changing),
-            spring_time_law: self.spring.as_ref().and_then(|f| f.time_law.as_ref()),
+            time_law: self.time_law.as_ref(),
             static_friction_peak: self.static_peak.as_ref(),
             fading_servo: self.fading.as_ref(),
             saturation_knee: self.saturation_knee.as_ref(),

@@ -1,7 +1,7 @@
 //! The answer in words: why this effect, or why none and what remains, and a named effect's
 //! form (a friction's static peak, a saturation's knee).
 
-use super::super::{Diagnosis, EffectParameter, SaturationKnee, StaticPeak, Verdict};
+use super::super::{Diagnosis, EffectParameter, SaturationKnee, StaticPeak, TimeLaw, Verdict};
 use crate::quantization;
 
 impl Diagnosis {
@@ -151,7 +151,10 @@ impl Diagnosis {
                         "{}, {}, was {}",
                         if unseated.is_some() { "the candidate the evidence chose" } else { "the strongest candidate" },
                         best.label,
-                        match &best.verdict {
+                        // A structure force set aside for a stiffness that changes with time.
+                        match self.time_law.as_ref().filter(|law| law.as_well && best.verdict == Verdict::TimeVarying) {
+                            Some(law) => law.sentence(best.evidence.in_sample, self.threshold),
+                            None => match &best.verdict {
                             Verdict::NotPredictive => "not predictive on held-out blocks".to_string(),
                             Verdict::WithinForceNoise => format!(
                                 "predictive on held-out blocks, but it removes less than {:.0} % of what the \
@@ -261,32 +264,8 @@ impl Diagnosis {
                                     None => format!("{:?}", best.verdict),
                                 }
                             }
-                            Verdict::Asymmetric | Verdict::TimeVarying => match self.spring.as_ref().map(|form| {
-                                // The rival law in time, where it (and not a term beside the
-                                // spring) set the spring aside.
-                                let law = form.time_law.as_ref().filter(|law| {
-                                    law.as_well && !form.changing.demanded && best.verdict == Verdict::TimeVarying
-                                });
-                                (form, law)
-                            }) {
-                                Some((_, Some(law))) => {
-                                    format!(
-                                        "predictive on held-out blocks ({:.1} nats in sample), but a linear stiffness \
-                                         at its coordinate that changes with time by a law of its own ({} values, \
-                                         piecewise linear to {:.2} s), in place of the spring, explains the record as \
-                                         well ({:.1} nats in sample, the spring {:.1} with its quintic; the spring must \
-                                         explain {:.0} more) — a stiffness lost or gained during the record (a storey \
-                                         that degrades and settles, or drops in a step) that the spring's change with \
-                                         amplitude follows as the motion decays",
-                                        best.evidence.in_sample,
-                                        law.values.len(),
-                                        law.times.last().copied().unwrap_or(0.0),
-                                        law.gain,
-                                        law.spring_gain,
-                                        self.threshold
-                                    )
-                                }
-                                Some((form, None)) => {
+                            Verdict::Asymmetric | Verdict::TimeVarying => match &self.spring {
+                                Some(form) => {
                                     let asymmetric =
                                         form.asymmetric.as_ref().filter(|_| best.verdict == Verdict::Asymmetric);
                                     let (term, what, kind) = if let Some(asymmetric) = asymmetric {
@@ -322,6 +301,7 @@ impl Diagnosis {
                                 None => format!("{:?}", best.verdict),
                             },
                             other => format!("{other:?}"),
+                        },
                         }
                     ));
                 }
@@ -329,6 +309,25 @@ impl Diagnosis {
                 out
             }
         }
+    }
+}
+
+impl TimeLaw {
+    /// Why the named force, whose own in-sample gain over the reference was `in_sample`, was set
+    /// aside for this law (the threshold it had to beat the law by).
+    fn sentence(&self, in_sample: f64, threshold: f64) -> String {
+        format!(
+            "predictive on held-out blocks ({in_sample:.1} nats in sample), but a linear stiffness at `{}` that \
+             changes with time by a law of its own ({} values, piecewise linear to {:.2} s), in its place, explains \
+             the record as well ({:.1} nats in sample against {:.1}; the named force must explain {threshold:.0} \
+             more) — a stiffness lost or gained during the record (a storey that degrades, settles after a loss or \
+             drops in a step), outside the catalog, for which it only stands in",
+            self.coordinate,
+            self.values.len(),
+            self.times.last().copied().unwrap_or(0.0),
+            self.gain,
+            self.effect_gain,
+        )
     }
 }
 
