@@ -350,7 +350,8 @@ fn a_law_in_time_without_ordered_positive_times_is_refused() {
             + &format!(
                 "    effects: [CubicStiffness(coordinate: \"q1\", coefficient: 0, change: Some({law}))],\n)\n"
             );
-        let error = Model::from_ron(&text, "building.ron").err().expect("refused").to_string();
+        let Err(error) = Model::from_ron(&text, "building.ron") else { panic!("{law}: refused") };
+        let error = error.to_string();
         assert!(error.contains(says) && error.contains("building.ron"), "{law}: {error}");
         assert_eq!(error.lines().count(), 1, "{error}");
     }

@@ -10,7 +10,7 @@ pub(super) mod structure;
 
 pub use searches::{KneeSearch, StaticPeakSearch, knee, static_peak};
 pub use seeds::Located;
-use seeds::{LIGHTLY_DAMPED, Seed, drift_time_range, mode_seeds, record_length};
+use seeds::{Clear, LIGHTLY_DAMPED, Seed, drift_time_range, mode_seeds, record_length};
 
 use crate::localise::Localisation;
 use mem::Measurement;

@@ -106,15 +106,45 @@ pub(super) const MIN_CYCLES: f64 = 3.0;
 /// coupled through inertia or stiffness (a mode coupled through damping allows more).
 pub(super) const LIGHTLY_DAMPED: f64 = 0.2;
 
+/// A frequency an unmodeled mode's seed and range are kept clear of (a modelled mode): by
+/// `margin` (relative), or by `sharp.0` only for a seed damped less than `sharp.1`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Clear {
+    /// The frequency \[Hz\].
+    pub(super) frequency: f64,
+    /// The relative clearance.
+    pub(super) margin: f64,
+    /// (clearance, damping ratio): the smaller clearance for a seed damped less than this.
+    pub(super) sharp: Option<(f64, f64)>,
+}
+
+impl Clear {
+    /// Kept clear by `margin` whatever the seed's damping.
+    pub(super) fn by(frequency: f64, margin: f64) -> Self {
+        Clear { frequency, margin, sharp: None }
+    }
+
+    /// The clearance for a seed of damping ratio `damping`.
+    fn for_damping(&self, damping: f64) -> f64 {
+        match self.sharp {
+            Some((clearance, below)) if damping < below => clearance,
+            _ => self.margin,
+        }
+    }
+}
+
 /// Where an unmodeled mode may be: physical modes of the baseline's residual and of the data
-/// itself damped less than `max_damping`, at most two, more than `margin` (relative) from each frequency in `avoid`
-/// and 10 % from each other, with the frequency within a factor 2 of the seed and `margin` clear
-/// of the frequencies to avoid. The slewing rig avoids only its servo mode (25 %): a mode near a
-/// modelled flexible mode is allowed there, because coupled to the hub a new mode and a modelled
-/// one beat (two peaks where the model has one), which no retuning of the modelled mode
-/// reproduces, while near the servo a heavily coupled "mode" would only reshape the servo's own
-/// response. A structure's extra mode adds to the outputs without coupling, so near any of the
-/// modelled modes it would only stand in for a change of that mode: it avoids them all (15 %).
+/// itself damped less than `max_damping`, at most two, clear of each frequency in `avoid` (by
+/// its [`Clear`]) and 10 % from each other, with the frequency within a factor 2 of the seed and
+/// as clear of the frequencies to avoid. The slewing rig avoids only its servo mode (25 %): a
+/// mode near a modelled flexible mode is allowed there, because coupled to the hub a new mode
+/// and a modelled one beat (two peaks where the model has one), which no retuning of the
+/// modelled mode reproduces, while near the servo a heavily coupled "mode" would only reshape
+/// the servo's own response. A structure's extra mode adds to the outputs without coupling, so
+/// near any of the modelled modes it would only stand in for a change of that mode: it avoids
+/// them all (15 %) — on a forced record, where the measured input shows each resonance's width,
+/// a seed far lighter damped than a modelled mode only by a few of that mode's bandwidths
+/// (module `structure`).
 ///
 /// Where neither record shows a mode to seed from, the modes in `fallback` (frequency, damping
 /// ratio) are taken under the same rules: for the slewing rig its first flexible mode, which
@@ -122,8 +152,7 @@ pub(super) const LIGHTLY_DAMPED: f64 = 0.2;
 /// servo's two overdamped poles carry all but a few percent of the record (a heavily damped mode
 /// coupled through damping takes the flexible mode's motion away), and then no mode was tried.
 pub(super) fn mode_seeds(
-    avoid: &[f64],
-    margin: f64,
+    avoid: &[Clear],
     max_damping: f64,
     localisation: &Localisation,
     fallback: &[(f64, f64)],
@@ -139,7 +168,7 @@ pub(super) fn mode_seeds(
     let seeded = |modes: &[(f64, f64)]| {
         let mut seeds: Vec<Seed> = Vec::new();
         for &(f, damping) in modes {
-            let near_servo = avoid.iter().any(|s| (f / s - 1.0).abs() < margin);
+            let near_servo = avoid.iter().any(|c| (f / c.frequency - 1.0).abs() < c.for_damping(damping));
             // (A NaN damping ratio is no seed either.)
             let damped_enough = damping < max_damping;
             if !damped_enough || near_servo || seeds.iter().any(|s| (s.frequency / f - 1.0).abs() < 0.1) {
@@ -148,7 +177,8 @@ pub(super) fn mode_seeds(
             // A mode needs three cycles in the record to be told from a trend, and must lie
             // below the Nyquist frequency of the grid it is simulated on.
             let mut limits = (MIN_CYCLES / record, localisation.nyquist_hz);
-            for &s in avoid {
+            for c in avoid {
+                let (s, margin) = (c.frequency, c.for_damping(damping));
                 if s < f {
                     limits.0 = limits.0.max((1.0 + margin) * s);
                 } else {
@@ -211,13 +241,53 @@ mod tests {
         };
         let fallback = [(1.7, 0.01)];
         let frequencies = |l: &Localisation| -> Vec<f64> {
-            mode_seeds(&[0.15], 0.25, LIGHTLY_DAMPED, l, &fallback).iter().map(|s| s.frequency).collect()
+            mode_seeds(&[Clear::by(0.15, 0.25)], LIGHTLY_DAMPED, l, &fallback)
+                .iter()
+                .map(|s| s.frequency)
+                .collect()
         };
         assert_eq!(frequencies(&record(Vec::new())), [1.7]);
         assert_eq!(frequencies(&record(vec![mode(5.3)])), [5.3]);
         // A mode near the servo is no seed, and then neither record shows one.
         assert_eq!(frequencies(&record(vec![mode(0.16)])), [1.7]);
-        let seeds = mode_seeds(&[0.15], 0.25, LIGHTLY_DAMPED, &record(Vec::new()), &fallback);
+        let seeds = mode_seeds(&[Clear::by(0.15, 0.25)], LIGHTLY_DAMPED, &record(Vec::new()), &fallback);
         assert_eq!((seeds[0].range, seeds[0].damping), ((0.85, 3.4), 0.01));
+    }
+
+    /// A modelled mode at 13.7 Hz, ζ 5.6 %, kept clear by 15 %, or by 1.5 ζ for a seed damped
+    /// less than ζ/2 (a forced record's sharp peak on the mode's flank).
+    #[test]
+    fn a_sharp_seed_needs_only_the_smaller_clearance_and_its_range_stops_there() {
+        let residual = |f: f64, zeta: f64| era::EraMode {
+            frequency_hz: f,
+            damping_ratio: zeta,
+            consistency: 1.0,
+            mpc: Some(1.0),
+            contribution: 0.5,
+            physical: true,
+        };
+        let record = |mode: era::EraMode| Localisation {
+            nyquist_hz: 100.0,
+            outputs: Vec::new(),
+            windows: vec![(0.0, 10.0, 1.0)],
+            decrement_vs_amplitude: Vec::new(),
+            decrement_trend: 0.0,
+            residual_modes: vec![mode],
+            data_modes: Vec::new(),
+            findings: Vec::new(),
+        };
+        let (f, zeta) = (13.7, 0.056);
+        let broad = Clear::by(f, 0.15);
+        let sharp = Clear { sharp: Some((1.5 * zeta, 0.5 * zeta)), ..broad };
+        // 13 % above the mode: too near for the broad rule, clear for a sharp seed.
+        let light = record(residual(15.48, 0.01));
+        assert!(mode_seeds(&[broad], LIGHTLY_DAMPED, &light, &[]).is_empty());
+        let seeds = mode_seeds(&[sharp], LIGHTLY_DAMPED, &light, &[]);
+        assert_eq!(seeds.len(), 1);
+        assert!((seeds[0].limits.0 - (1.0 + 1.5 * zeta) * f).abs() < 1e-12, "{:?}", seeds[0]);
+        // A seed as damped as the mode (a change of the mode itself) keeps the broad rule.
+        assert!(mode_seeds(&[sharp], LIGHTLY_DAMPED, &record(residual(15.48, 0.04)), &[]).is_empty());
+        // And a sharp one within 1.5 ζ of the mode is no seed either.
+        assert!(mode_seeds(&[sharp], LIGHTLY_DAMPED, &record(residual(14.5, 0.01)), &[]).is_empty());
     }
 }

@@ -1,7 +1,7 @@
 //! The slewing rig's candidates: saturations, friction, drag, a cubic spring and a delay in the
 //! loop, sensor effects, and an unmodeled mode coupled to the hub.
 
-use super::{Demand, LIGHTLY_DAMPED, Located, Seed, Strength, Trial, mode_seeds};
+use super::{Clear, Demand, LIGHTLY_DAMPED, Located, Seed, Strength, Trial, mode_seeds};
 use crate::localise::Localisation;
 use plant::{Effect, EffectKind, ModeKind, ParamId, SlewingModel};
 
@@ -277,15 +277,19 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
         }
     }
     let modal = model.modal().unwrap_or_default();
-    let servo: Vec<f64> =
-        modal.iter().filter(|r| r.kind == ModeKind::Servo).map(|r| r.frequency_hz).take(1).collect();
+    let servo: Vec<Clear> = modal
+        .iter()
+        .filter(|r| r.kind == ModeKind::Servo)
+        .map(|r| Clear::by(r.frequency_hz, 0.25))
+        .take(1)
+        .collect();
     // Where the record shows no mode, the model's first flexible mode is seeded ([`mode_seeds`]).
     let first_flexible: Vec<(f64, f64)> = modal
         .iter()
         .filter(|r| r.kind == ModeKind::Flexible(1))
         .map(|r| (r.frequency_hz, r.damping_ratio))
         .collect();
-    for seed in mode_seeds(&servo, 0.25, LIGHTLY_DAMPED, localisation, &first_flexible) {
+    for seed in mode_seeds(&servo, LIGHTLY_DAMPED, localisation, &first_flexible) {
         let (f, (low, high)) = (seed.frequency, seed.range);
         let damping = seed.damping.clamp(0.005, 0.15);
         let bounds = [
@@ -326,7 +330,7 @@ pub(super) fn trials(model: &SlewingModel, localisation: &Localisation) -> Vec<T
     // well (its share of 2ζω is at least c_d²/d_hub), so a mode coupled this way strongly is a
     // well damped one: its damping ratio may reach 0.5, and so may its seed's.
     let zeta_max = 0.5;
-    for seed in mode_seeds(&servo, 0.25, zeta_max, localisation, &first_flexible) {
+    for seed in mode_seeds(&servo, zeta_max, localisation, &first_flexible) {
         let (f, (low, high)) = (seed.frequency, seed.range);
         let damping = seed.damping.clamp(0.005, 0.9 * zeta_max);
         let d_hub = c.viscous_damping + c.back_emf_constant * c.torque_constant / c.armature_resistance;
