@@ -10,9 +10,10 @@
 //!   dry friction f = (F_c + ΔF e^{−(v/v_st)²})·v/√(v² + v_s²) (a smooth sign of width v_s;
 //!   the static peak ΔF over the Stribeck velocity v_st optional), drag
 //!   f = c·v·|v|^(e−1) (velocity exponent e ≥ 1, quadratic for e = 2), and a hardening
-//!   (k₃ > 0) or softening (k₃ < 0) spring f = k₃ q³ + k₂ q² + k₅ q⁵ + k₁′ t q (k₂, its
-//!   asymmetric part, k₅, and k₁′, a linear stiffness that changes over the record at time t
-//!   since the release, optional). With x = [q; q̇] the state equation is
+//!   (k₃ > 0) or softening (k₃ < 0) spring f = k₃ q³ + k₂ q² + k₅ q⁵ + k₁′ t q + Δk(t) q (k₂,
+//!   its asymmetric part, k₅, k₁′, a linear stiffness that changes over the record at time t
+//!   since the release, and Δk(t), one that changes by a law of its own, piecewise linear
+//!   through given times ([`StiffnessChange`]), optional). With x = [q; q̇] the state equation is
 //!   ẋ = A x + B u + G f(t, x), G's column j = [0; −M⁻¹e_j], and an acceleration output reads
 //!   its share of the force, y = C x + D u + H f(t, x) (H from the rows of G). A drag of
 //!   exponent 1 held there is linear, a damper c·q̇_j: where no other force acts and its
@@ -32,7 +33,7 @@
 //! `friction_<coordinate>`,
 //! `static_peak_<coordinate>`, `stribeck_velocity_<coordinate>`,
 //! `drag_<coordinate>`, `drag_exponent_<coordinate>`, `cubic_<coordinate>`, `quadratic_<coordinate>`, `quintic_<coordinate>`, `sided_<coordinate>`,
-//! `stiffness_rate_<coordinate>`, `mode_frequency`,
+//! `stiffness_rate_<coordinate>`, `stiffness_change_<coordinate>_<i>`, `mode_frequency`,
 //! `mode_damping`, `mode_cos_<output>`, `mode_sin_<output>`. A quantization step and a friction's
 //! smoothing width are settings, not parameters.
 
