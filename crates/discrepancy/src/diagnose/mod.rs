@@ -408,7 +408,7 @@ pub fn diagnose_observed(
             Some(form) => Some(form.gain),
             None => candidates[i].outcome.as_ref().map(&gain),
         };
-        time_law = effect_gain.and_then(|g| time_law::rival(&candidates[i], trial, &test, g));
+        time_law = effect_gain.and_then(|g| time_law::rival(trial, &test, g));
         if time_law.as_ref().is_some_and(|law| law.as_well) {
             candidates[i].verdict = Verdict::TimeVarying;
             return None;

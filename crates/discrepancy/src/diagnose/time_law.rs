@@ -23,9 +23,9 @@
 
 use super::answer::TimeLaw;
 use super::catalog::Trial;
-use super::named::FormTest;
+use super::named::{FormTest, parameter_of};
+use super::run;
 use super::spring::{record_end, symmetric};
-use super::{Candidate, EffectParameter, run};
 
 use models::{FitOutcome, ModelEffect};
 use rayon::prelude::*;
@@ -40,17 +40,12 @@ fn law_names(coordinate: &str, n: usize) -> Vec<String> {
     (1..=n).map(|i| format!("stiffness_change_{coordinate}_{i}")).collect()
 }
 
-/// The rival law in time to the named `candidate` (its trial `trial`) on a structure, whose own
-/// account gains `effect_gain` nats in sample over the reference: `None` where the candidate is
-/// not a force at a coordinate of a structure, or every law's refit fails.
-pub(super) fn rival(
-    candidate: &Candidate,
-    trial: &Trial,
-    test: &FormTest,
-    effect_gain: f64,
-) -> Option<TimeLaw> {
+/// The rival law in time to a named force of `trial` on a structure, whose own account gains
+/// `effect_gain` nats in sample over the reference: `None` where the trial is not a force at a
+/// coordinate of a structure, or every law's refit fails.
+pub(super) fn rival(trial: &Trial, test: &FormTest, effect_gain: f64) -> Option<TimeLaw> {
     let ModelEffect::Structure(effect) = &trial.effect else { return None };
-    if !effect.is_force() || candidate.model.is_none() {
+    if !effect.is_force() {
         return None;
     }
     let end = record_end(test.data)?;
@@ -62,17 +57,9 @@ pub(super) fn rival(
             let gain = (test.gain)(&outcome);
             gain.is_finite().then(|| (s.coordinate.clone(), times, outcome, gain))
         })
-        .collect::<Vec<_>>()
-        .into_iter()
         .max_by(|a, b| a.3.total_cmp(&b.3))?;
-    let values = law_names(&coordinate, times.len())
-        .iter()
-        .filter_map(|name| {
-            let i = outcome.report.names.iter().position(|n| n == name)?;
-            let (value, std_error) = (outcome.report.parameters[i], outcome.report.std_error(i));
-            Some(EffectParameter { name: name.clone(), value, std_error })
-        })
-        .collect();
+    let values =
+        law_names(&coordinate, times.len()).iter().filter_map(|name| parameter_of(&outcome, name)).collect();
     Some(TimeLaw {
         coordinate,
         times,

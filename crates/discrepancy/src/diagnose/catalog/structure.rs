@@ -273,6 +273,22 @@ pub(super) fn trials(
             }),
         );
     }
+    // On a forced record the mode is the response to a measured input, from rest (one trial
+    // per input, the input named in the label when there are several); in free decay, a
+    // ringing from the start.
+    let drives: Vec<Option<(String, f64)>> = match record.inputs() {
+        Some(inputs) if !model.input_names().is_empty() => inputs
+            .names()
+            .iter()
+            .enumerate()
+            .filter_map(|(i, name)| {
+                let column = inputs.values().col(i);
+                let rms = (column.iter().map(|u| u * u).sum::<f64>() / column.nrows().max(1) as f64).sqrt();
+                (rms > 0.0 && rms.is_finite()).then(|| Some((name.clone(), rms)))
+            })
+            .collect(),
+        _ => vec![None],
+    };
     // A mode within 15 % of a modelled one is not told from a change of that mode (its
     // frequency or damping, or their dependence on amplitude): seeds there are not tried, and
     // a seed's range stops 15 % short of the modelled modes around it.
@@ -284,7 +300,7 @@ pub(super) fn trials(
     // 15.1 Hz on floor 2 (ζ 0.9 %, 1,895 nats of resonance in its record) lay 10 % above the
     // building's third mode (13.7 Hz, ζ ≈ 5.6 %) on the forced draw 20261306, and was answered
     // a sensor scale.
-    let forced = record.inputs().is_some() && !model.input_names().is_empty();
+    let forced = drives.iter().any(Option::is_some);
     let modelled: Vec<Clear> = model
         .modes()
         .map(|m| {
@@ -302,22 +318,6 @@ pub(super) fn trials(
                 .collect()
         })
         .unwrap_or_default();
-    // On a forced record the mode is the response to a measured input, from rest (one trial
-    // per input, the input named in the label when there are several); in free decay, a
-    // ringing from the start.
-    let drives: Vec<Option<(String, f64)>> = match record.inputs() {
-        Some(inputs) if !model.input_names().is_empty() => inputs
-            .names()
-            .iter()
-            .enumerate()
-            .filter_map(|(i, name)| {
-                let column = inputs.values().col(i);
-                let rms = (column.iter().map(|u| u * u).sum::<f64>() / column.nrows().max(1) as f64).sqrt();
-                (rms > 0.0 && rms.is_finite()).then(|| Some((name.clone(), rms)))
-            })
-            .collect(),
-        _ => vec![None],
-    };
     let several = drives.len() > 1;
     for seed in mode_seeds(&modelled, LIGHTLY_DAMPED, localisation, &[]) {
         for drive in &drives {

@@ -147,14 +147,12 @@ impl Diagnosis {
                 if let Some(best) =
                     unseated.or_else(|| self.candidates.iter().find(|c| c.evidence.held_out.is_some()))
                 {
+                    let law_aside = self.time_law.as_ref().filter(|law| law.as_well);
                     out.push(format!(
                         "{}, {}, was {}",
                         if unseated.is_some() { "the candidate the evidence chose" } else { "the strongest candidate" },
                         best.label,
-                        // A structure force set aside for a stiffness that changes with time.
-                        match self.time_law.as_ref().filter(|law| law.as_well && best.verdict == Verdict::TimeVarying) {
-                            Some(law) => law.sentence(best.evidence.in_sample, self.threshold),
-                            None => match &best.verdict {
+                        match &best.verdict {
                             Verdict::NotPredictive => "not predictive on held-out blocks".to_string(),
                             Verdict::WithinForceNoise => format!(
                                 "predictive on held-out blocks, but it removes less than {:.0} % of what the \
@@ -240,6 +238,9 @@ impl Diagnosis {
                                     None => format!("{:?}", best.verdict),
                                 }
                             }
+                            // A structure force set aside for a stiffness that changes with time.
+                            Verdict::TimeVarying if law_aside.is_some() => law_aside
+                                .map_or_else(String::new, |law| law.sentence(best.evidence.in_sample, self.threshold)),
                             Verdict::TimeVarying if best.kind == plant::EffectKind::CoulombFriction => {
                                 // The rig's servo, or a structure's storey.
                                 let (change, physics) = if self.reference.fitted.as_structure().is_some() {
@@ -301,7 +302,6 @@ impl Diagnosis {
                                 None => format!("{:?}", best.verdict),
                             },
                             other => format!("{other:?}"),
-                        },
                         }
                     ));
                 }
