@@ -9,7 +9,7 @@
 //! that Rayleigh damping cannot give). Each record hides one effect, or none. These records were
 //! used in development; the held-out study is `studies/structure --forced` (docs/diagnose.md).
 
-use super::{label, run_in};
+use super::{label, resolved_loss, run_in};
 
 fn run(case: &str) -> discrepancy::Diagnosis {
     run_in("shear_building_forced_q.ron", "forced", case)
@@ -51,8 +51,6 @@ fn a_storey_that_degrades_under_the_shaking_is_not_named_a_drag() {
     let law = d.time_law.as_ref().expect("the drag weighed against a law in time");
     assert!(law.as_well && law.gain > law.effect_gain + 10.0 * d.threshold, "{law:?}");
     assert_eq!(law.coordinate, "q1", "{law:?}");
-    let resolved_loss =
-        |v: &discrepancy::diagnose::EffectParameter| v.std_error.is_some_and(|se| v.value < -3.0 * se);
     let (early, late) = (&law.values[1], &law.values[6]);
     assert!(
         resolved_loss(early) && resolved_loss(late) && late.value < 2.0 * early.value,

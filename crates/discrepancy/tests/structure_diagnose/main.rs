@@ -207,8 +207,6 @@ fn a_storey_that_settles_early_is_not_named_a_hardening_spring() {
     assert!(!form.changing.demanded, "the rate alone does not see it: {form:?}");
     let law = d.time_law.as_ref().expect("weighed against a law in time");
     assert!(law.as_well && law.gain > law.effect_gain, "{law:?}");
-    let resolved_loss =
-        |v: &discrepancy::diagnose::EffectParameter| v.std_error.is_some_and(|se| v.value < -3.0 * se);
     assert!(law.values[..4].iter().all(resolved_loss), "a loss: {law:?}");
     assert!(law.values[0].value > law.values[2].value, "that grows early: {law:?}");
     assert!(d.answer().iter().any(|s| s.contains("a law of its own")), "{:?}", d.answer());
@@ -226,6 +224,11 @@ fn a_storey_stiffness_lost_in_a_step_is_not_named_a_hardening_spring() {
     let form = d.spring.as_ref().expect("a spring stood in for it and was tested");
     let by_law = d.time_law.as_ref().is_some_and(|law| law.as_well);
     assert!(form.changing.demanded || by_law, "{form:?} {:?}", d.time_law);
+}
+
+/// A value of a law in time that is a loss, resolved from zero by 3 standard errors.
+fn resolved_loss(v: &discrepancy::diagnose::EffectParameter) -> bool {
+    v.std_error.is_some_and(|se| v.value < -3.0 * se)
 }
 
 /// `case` of `fixtures/independent/study_cases.py` read by two accelerometers, diagnosed with
