@@ -86,10 +86,11 @@ def matrices(rng, mass2=1000.0, modal=None):
     return M, K, D
 
 
-def simulate(M, K, D, force=None, extra=None, u=None):
+def simulate(M, K, D, force=None, extra=None, u=None, release=0.0):
     """force(q, v, t) -> generalised force on the floors; extra: an appendage (j, m, f, zeta);
     u: None for the free decay from Q0, or (--forced) the force F_IN u[k] held over [t_k, t_k+1)
-    from rest."""
+    from rest; release: in free decay, the appendage's displacement from its floor at the release
+    [m] (0: released relaxed, moving with its floor)."""
     Minv = np.linalg.inv(M)
 
     def rhs(t, x, uk=None):  # uk: the held input (--forced)
@@ -124,7 +125,7 @@ def simulate(M, K, D, force=None, extra=None, u=None):
         return np.hstack([x[:, :6], acc])  # (N, 9): q, v, q''
     x0[:3] = Q0
     if extra is not None:
-        x0[6] = Q0[extra[0]]
+        x0[6] = Q0[extra[0]] + release
     sol = solve_ivp(rhs, (0.0, t[-1]), x0, method="DOP853", t_eval=t, rtol=1e-9, atol=1e-12, max_step=H)
     if not sol.success:
         raise RuntimeError(sol.message)
@@ -189,6 +190,45 @@ def resonance_nats(M, K, D, extra, u, sigma):
     return float(0.5 * np.sum((q.T @ d) ** 2))
 
 
+def coupled_mode(M, K, D, extra):
+    """The eigenvalue (upper half-plane) of the building with the appendage nearest the
+    appendage's own frequency: its mode as the record shows it."""
+    lam = np.linalg.eigvals(state_space(M, K, D, extra)[0])
+    return lam[np.argmin(np.abs(lam - 2j * np.pi * extra[2]))]
+
+
+def ring_nats(M, K, D, extra, release, sigma):
+    """Free decay: how far an appendage (j, m, f, zeta) released `release` [m] from its floor can
+    be seen ringing as a mode of its own, in nats: half the squared norm, in units of each
+    column's noise sigma, of the part of what the release adds to the measured columns (the
+    linear building with the appendage from Q0 with and without the release) that lies in the
+    span of the coupled mode nearest the appendage's frequency (e^(-zeta w t) cos and sin at the
+    eigenvalue of the building with it). The free decay of an appendage released relaxed is
+    the measure's zero."""
+    A, _ = state_space(M, K, D, extra)
+    lam = coupled_mode(M, K, D, extra)
+    t = np.arange(N) * H
+    basis = np.column_stack([np.exp(lam.real * t) * np.cos(lam.imag * t), np.exp(lam.real * t) * np.sin(lam.imag * t)])
+    x0 = np.zeros(8)  # simulate's order: q, v, then the appendage's qa, va
+    x0[6] = release
+    E = expm(A * H)
+    x = np.empty((N, 8))
+    x[0] = x0
+    for k in range(N - 1):
+        x[k + 1] = E @ x[k]
+    d = x[:, MEASURED] / sigma if max(MEASURED) < 3 else None
+    if d is None:  # --accelerations: the floors' accelerations, q'' = (A x)[v]
+        d = (x @ A.T)[:, [m - 3 for m in MEASURED]] / sigma
+    q, _ = np.linalg.qr(basis)
+    return float(0.5 * np.sum((q.T @ d) ** 2))
+
+
+def ringing_release(M, K, D, extra, sigma, nats):
+    """The appendage's release from its floor [m] at which ring_nats is `nats` (it is quadratic in
+    the release)."""
+    return float(np.sqrt(nats / ring_nats(M, K, D, extra, 1.0, sigma)))
+
+
 def input_shape(g, kind):
     """An input of the kind, unscaled, drawn from the generator g."""
     t = np.arange(N) * H
@@ -250,7 +290,7 @@ def case_a(rng, kind, strength, w=None):  # w: --forced's input shape (see drive
     o = int(rng.integers(0, 2))  # which output a sensor effect is on
     out_name = COLUMNS[o]
     level, rho = rng.uniform(0.005, 0.02), [0.0, 0.0, 0.5][int(rng.integers(0, 3))]
-    force, extra, post, truth = None, None, None, {}
+    force, extra, post, truth, release = None, None, None, {}, 0.0
     if kind == "cubic":
         r = [0.02, 0.05, 0.15][s] * float(rng.choice([-1, 1]))  # nonlinear / linear storey force at the peak
         k = K[j, j] * r / qpk[j] ** 2
@@ -267,16 +307,25 @@ def case_a(rng, kind, strength, w=None):  # w: --forced's input shape (see drive
         c = [0.1, 0.3, 1.0][s] * D[j, j] * vpk[j] / vpk[j] ** e
         force = lambda q, v, t: -np.eye(3)[j] * c * np.abs(v[j]) ** e * np.sign(v[j])
         name, truth = "quadratic_drag", dict(coordinate=f"q{j + 1}", c=c, exponent=e)
-    elif kind == "appendage":
+    elif kind in ("appendage", "ringing_appendage"):
         ratio = [0.01, 0.025, 0.05][s]
         extra = (j, ratio * 1000.0, rng.uniform(15, 25), rng.uniform(0.005, 0.02))
         name, truth = "unmodeled_mode", dict(coordinate=f"q{j + 1}", mass=extra[1], f=extra[2], zeta=extra[3])
+        if kind == "ringing_appendage":  # --ringing-appendages: released from its floor so that it rings
+            # as visibly as the offsets' ladder (0.15 / 0.4 / 1 sigma on one column: 0.5 N b^2 nats);
+            # sigma depends on the record it is the noise of, so the release is solved twice.
+            nats = 0.5 * N * [0.15, 0.4, 1.0][s] ** 2
+            for _ in range(2):
+                sigma = noise(np.random.default_rng(0), simulate(M, K, D, extra=extra, release=release)[:, MEASURED],
+                              level, rho)[1]
+                release = ringing_release(M, K, D, extra, sigma, nats)
+            truth.update(release=release, ring_target_nats=nats)
     else:
         name = {"offset": "output_offset", "scale": "sensor_scale", "drift": "sensor_drift",
                 "quantization": "sensor_quantization"}[kind]
         truth = dict(sensor=out_name)
     try:
-        x = simulate(M, K, D, force, extra, u)
+        x = simulate(M, K, D, force, extra, u, release)
     except RuntimeError:
         if kind != "cubic" or u is None:
             raise
@@ -296,6 +345,10 @@ def case_a(rng, kind, strength, w=None):  # w: --forced's input shape (see drive
     e, sigma = noise(rng, clean, level, rho)
     if kind == "appendage" and u is not None:
         truth["resonance_nats"] = resonance_nats(M, K, D, extra, u, sigma)
+    if kind == "ringing_appendage":
+        truth["ring_nats"] = ring_nats(M, K, D, extra, release, sigma)
+        lam = coupled_mode(M, K, D, extra)
+        truth.update(coupled_f=abs(lam) / (2 * np.pi), coupled_zeta=-lam.real / abs(lam))
     y = clean + e
     t = np.arange(N) * H
     if kind == "offset":
@@ -432,6 +485,9 @@ def main():
     ap.add_argument("--more-degrading", action="store_true",
                     help="append family-C degradations absent from dev and held: a storey (any of the three) that "
                          "loses stiffness by an exponential law in time or in a sudden smooth step (12 cases)")
+    ap.add_argument("--ringing-appendages", action="store_true",
+                    help="append family-A appendages released from their floor so that they ring, at the offsets' "
+                         "ladder of visibility (6 cases; free decay only)")
     ap.add_argument("--accelerations", action="store_true",
                     help="record the accelerations a1, a3 (fixtures/shear_building_acc2.ron) instead of q1, q3")
     ap.add_argument("--forced", action="store_true",
@@ -444,6 +500,8 @@ def main():
     opt = ap.parse_args()
     if opt.forced and opt.accelerations:
         ap.error("--forced records displacements (t,u,q1,q3); it cannot be combined with --accelerations")
+    if opt.ringing_appendages and opt.forced:
+        ap.error("--ringing-appendages releases an appendage in free decay; a forced record starts at rest")
     if opt.input_noise and not opt.forced:
         ap.error("--input-noise needs --forced")
     if opt.input_noise < 0:
@@ -507,6 +565,10 @@ def main():
             for seed in range(2):
                 y, truth = run(case_c, kind, strength)
                 write(f"C_{kind}_{strength}_s{seed}", y, "C", "none", ["none"], strength, truth)
+    for strength in LEVELS if opt.ringing_appendages else []:
+        for seed in range(2):
+            y, name, truth = run(case_a, "ringing_appendage", strength)
+            write(f"A_ringing_appendage_{strength}_s{seed}", y, "A", name, [name], strength, truth)
     json.dump(dict(cases=cases), open(os.path.join(opt.out, "truth.json"), "w"), indent=1)
     print(len(cases), "cases in", opt.out)
 

@@ -295,7 +295,12 @@ impl Compiled {
 
 impl Compiled {
     /// The acceleration outputs' share of the columns `b` of the state equation: Σ w·b[n + i].
-    fn acceleration_share<D: Scalar>(&self, b: &DMatrix<D>, values: &[D], half: usize) -> DMatrix<D> {
+    pub(crate) fn acceleration_share<D: Scalar>(
+        &self,
+        b: &DMatrix<D>,
+        values: &[D],
+        half: usize,
+    ) -> DMatrix<D> {
         let m = b.ncols();
         let mut d = DMatrix::from_element(self.outputs.len(), m, D::zero());
         for (row, output) in self.outputs.iter().enumerate() {

@@ -19,7 +19,8 @@ impl Effect {
                 Some(format!("no output `{o}`; the outputs are {}", outputs.join(", ")))
             }
             Target::Coordinate(c) if !second_order => Some(format!(
-                "a force at `{c}` needs a second-order model (its coordinates); this file is first order"
+                "{} at `{c}` needs a second-order model (its coordinates); this file is first order",
+                if self.is_force() { "a force" } else { "an appendage" }
             )),
             Target::Coordinate(c) if !coordinates.iter().any(|n| n == c) => {
                 Some(format!("no coordinate `{c}`; the coordinates are {}", coordinates.join(", ")))
@@ -74,6 +75,15 @@ impl Effect {
                 }
                 Effect::Drag { exponent, .. } if *exponent < 1.0 => {
                     Some(format!("exponent = {exponent}: give an exponent of at least 1"))
+                }
+                Effect::Appendage { mass, .. } if *mass <= 0.0 => {
+                    Some(format!("mass = {mass}: give a positive mass [kg]"))
+                }
+                Effect::Appendage { frequency_hz, .. } if *frequency_hz <= 0.0 => {
+                    Some(format!("frequency_hz = {frequency_hz}: give a positive frequency"))
+                }
+                Effect::Appendage { damping_ratio, .. } if *damping_ratio < 0.0 => {
+                    Some(format!("damping_ratio = {damping_ratio}: give a ratio ≥ 0"))
                 }
                 Effect::UnmodeledMode { frequency_hz, damping_ratio, amplitudes, driven_by } => {
                     if *frequency_hz <= 0.0 {

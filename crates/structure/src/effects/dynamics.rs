@@ -1,5 +1,6 @@
-//! What an effect does to the dynamics: a force's value at a state ([`Effect::force`]) and an
-//! unmodeled mode's two states appended to the linear model ([`append_mode`]).
+//! What an effect does to the dynamics: a force's value at a state ([`Effect::force`]), an
+//! unmodeled mode's two states appended to the linear model ([`append_mode`]) and an
+//! appendage's ([`append_appendage`]).
 
 use super::Effect;
 use mem::Scalar;
@@ -106,5 +107,62 @@ pub(crate) fn append_mode<D: Scalar>(space: &mut mem::StateSpace<D>, theta: &[D]
     }
     space.a = a;
     space.c = c;
+    space.x0 = x0;
+}
+
+/// Appends an appendage's two states (z, ż) to A, C, x(0) and B: `theta` is (m_a, f_a, ζ_a[, F_r])
+/// ([`Effect::Appendage`]), `j` its coordinate among the model's `n`, `reaction` the state
+/// equation's column of a unit force at j ([0; M⁻¹e_j], as many rows as A, the appended states'
+/// zero), and `accelerations` the acceleration outputs' share of columns of the state equation
+/// (C's rows that read q̈ are rows of A, so they change with it).
+///
+/// With k_a = m_a ω_a² and c_a = 2ζ_a m_a ω_a, the coordinate feels f = k_a (z − q_j) + c_a (ż − q̇_j)
+/// through `reaction`, and z̈ = −ω_a² (z − q_j) − 2ζ_a ω_a (ż − q̇_j); z(0) = q_j(0) + F_r/k_a,
+/// ż(0) = q̇_j(0).
+pub(crate) fn append_appendage<D: Scalar>(
+    space: &mut mem::StateSpace<D>,
+    theta: &[D],
+    j: usize,
+    n: usize,
+    reaction: &DVector<D>,
+    accelerations: impl Fn(&DMatrix<D>) -> DMatrix<D>,
+) {
+    let big = space.a.nrows();
+    let (mass, omega) = (theta[0], theta[1] * D::from(2.0 * std::f64::consts::PI));
+    let zeta = theta[2];
+    let (k, c) = (mass * omega * omega, D::from(2.0) * zeta * mass * omega);
+    let (z, zdot) = (big, big + 1);
+    // The change of A: the reaction on the coordinate, and the appendage's own rows.
+    let mut delta = DMatrix::from_element(big + 2, big + 2, D::from(0.0));
+    for r in 0..big.min(reaction.len()) {
+        let w = reaction[r];
+        delta[(r, j)] -= k * w;
+        delta[(r, n + j)] -= c * w;
+        delta[(r, z)] += k * w;
+        delta[(r, zdot)] += c * w;
+    }
+    let (w2, cw) = (omega * omega, D::from(2.0) * zeta * omega);
+    delta[(z, zdot)] = D::from(1.0);
+    delta[(zdot, z)] = -w2;
+    delta[(zdot, zdot)] = -cw;
+    delta[(zdot, j)] = w2;
+    delta[(zdot, n + j)] = cw;
+    let mut a = DMatrix::from_element(big + 2, big + 2, D::from(0.0));
+    a.view_mut((0, 0), (big, big)).copy_from(&space.a);
+    let p = space.c.nrows();
+    let mut c_out = DMatrix::from_element(p, big + 2, D::from(0.0));
+    c_out.view_mut((0, 0), (p, big)).copy_from(&space.c);
+    c_out += accelerations(&delta);
+    let mut x0 = DVector::from_element(big + 2, D::from(0.0));
+    x0.rows_mut(0, big).copy_from(&space.x0);
+    x0[z] = space.x0[j] + theta.get(3).map_or(D::from(0.0), |&f| f / k);
+    x0[zdot] = space.x0[n + j];
+    if let Some(b) = &space.b {
+        let mut wide = DMatrix::from_element(big + 2, b.ncols(), D::from(0.0));
+        wide.view_mut((0, 0), (big, b.ncols())).copy_from(b);
+        space.b = Some(wide);
+    }
+    space.a = a + delta;
+    space.c = c_out;
     space.x0 = x0;
 }

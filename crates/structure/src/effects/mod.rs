@@ -40,7 +40,7 @@
 mod checks;
 mod dynamics;
 
-pub(crate) use dynamics::append_mode;
+pub(crate) use dynamics::{append_appendage, append_mode};
 use serde::{Deserialize, Serialize};
 
 /// An effect added to a structure model (the `effects:` list of its model file).
@@ -161,6 +161,29 @@ pub enum Effect {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         driven_by: Option<String>,
     },
+    /// A mass the model lacks on a spring and damper at a coordinate (a second-order file's): an
+    /// appendage, equipment on a floor, a tuned mass. Its displacement z joins the state, and
+    /// with k_a = m_a ω_a², c_a = 2ζ_a m_a ω_a (ω_a = 2π f_a, the appendage's frequency on a
+    /// fixed base) m_a z̈ = −k_a (z − q_j) − c_a (ż − q̇_j), while the coordinate feels the
+    /// reaction k_a (z − q_j) + c_a (ż − q̇_j). Linear: the exact exponential path still applies.
+    /// It starts from z(0) = q_j(0) + F_r/k_a and ż(0) = q̇_j(0): F_r is its spring's force at
+    /// the release (0 when absent: it moves with the coordinate, relaxed). The force, not the
+    /// displacement F_r/k_a, is the parameter: the ringing it starts pushes on the coordinate
+    /// with F_r whatever the mass, so a record determines it where it leaves m_a loose.
+    Appendage {
+        /// The coordinate it hangs on.
+        coordinate: String,
+        /// m_a > 0 \[kg\] (`appendage_mass_<coordinate>`).
+        mass: f64,
+        /// f_a > 0 \[Hz\] (`appendage_frequency_<coordinate>`).
+        frequency_hz: f64,
+        /// ζ_a ≥ 0 (`appendage_damping_<coordinate>`).
+        damping_ratio: f64,
+        /// F_r, its spring's force at the release \[N\]; a parameter
+        /// `appendage_release_<coordinate>` when given.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        release_force: Option<f64>,
+    },
 }
 
 /// A law of change with time, piecewise linear through (0, 0) and (tᵢ, vᵢ) and constant after the
@@ -220,6 +243,8 @@ pub enum EffectKind {
     CubicStiffness,
     /// [`Effect::UnmodeledMode`].
     UnmodeledMode,
+    /// [`Effect::Appendage`].
+    Appendage,
 }
 
 /// Where an effect acts.
@@ -246,6 +271,7 @@ impl Effect {
             Effect::Drag { .. } => EffectKind::Drag,
             Effect::CubicStiffness { .. } => EffectKind::CubicStiffness,
             Effect::UnmodeledMode { .. } => EffectKind::UnmodeledMode,
+            Effect::Appendage { .. } => EffectKind::Appendage,
         }
     }
 
@@ -259,14 +285,24 @@ impl Effect {
             | Effect::SensorCrosstalk { output, .. } => Target::Output(output),
             Effect::DryFriction { coordinate, .. }
             | Effect::Drag { coordinate, .. }
-            | Effect::CubicStiffness { coordinate, .. } => Target::Coordinate(coordinate),
+            | Effect::CubicStiffness { coordinate, .. }
+            | Effect::Appendage { coordinate, .. } => Target::Coordinate(coordinate),
             Effect::UnmodeledMode { .. } => Target::Model,
         }
     }
 
-    /// Whether it is a force at a coordinate (which makes the model nonlinear).
+    /// Whether it is a force at a coordinate (which makes the model nonlinear); an appendage
+    /// acts at a coordinate too, but through two states of its own in the linear model.
     pub fn is_force(&self) -> bool {
-        matches!(self.target(), Target::Coordinate(_))
+        matches!(self.target(), Target::Coordinate(_)) && !matches!(self, Effect::Appendage { .. })
+    }
+
+    /// How many states it adds to the linear model: two for an unmodeled mode or an appendage.
+    pub fn added_states(&self) -> usize {
+        match self {
+            Effect::UnmodeledMode { .. } | Effect::Appendage { .. } => 2,
+            _ => 0,
+        }
     }
 
     /// Its parameters' names and values, given the outputs' names (for a mode's amplitudes).
@@ -315,6 +351,15 @@ impl Effect {
                 }
                 out
             }
+            Effect::Appendage { coordinate, mass, frequency_hz, damping_ratio, release_force } => {
+                let mut out = vec![
+                    (format!("appendage_mass_{coordinate}"), *mass),
+                    (format!("appendage_frequency_{coordinate}"), *frequency_hz),
+                    (format!("appendage_damping_{coordinate}"), *damping_ratio),
+                ];
+                out.extend(release_force.map(|f| (format!("appendage_release_{coordinate}"), f)));
+                out
+            }
         }
     }
 
@@ -351,6 +396,11 @@ impl Effect {
                 k if k % 2 == 0 => amplitudes[(k - 2) / 2].0 = value,
                 k => amplitudes[(k - 2) / 2].1 = value,
             },
+            Effect::Appendage { mass, frequency_hz, damping_ratio, release_force, .. } => {
+                let mut slots: Vec<&mut f64> = vec![mass, frequency_hz, damping_ratio];
+                slots.extend(release_force.as_mut());
+                *slots[k] = value;
+            }
             Effect::SensorQuantization { .. } => {}
         }
     }

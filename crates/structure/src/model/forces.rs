@@ -3,7 +3,7 @@
 
 use super::StructureModel;
 use crate::StructureError;
-use crate::effects::{Effect, EffectKind, Target};
+use crate::effects::{Effect, Target};
 use mem::Scalar;
 
 /// One force effect, ready to evaluate: f at a state x = [q; q̇] of `n` coordinates, with its
@@ -134,6 +134,7 @@ impl StructureModel {
     fn force_effects(&self) -> Vec<(&Effect, usize, usize)> {
         self.effect_offsets()
             .into_iter()
+            .filter(|(e, _)| e.is_force())
             .filter_map(|(e, start)| match e.target() {
                 Target::Coordinate(c) => Some((e, self.coordinate_index(c)?, start)),
                 _ => None,
@@ -175,8 +176,9 @@ impl StructureModel {
         Ok(Some(ForceParts { g: wide, h }))
     }
 
-    /// The number of states with an unmodeled mode's two.
+    /// The number of states with those the effects add (an unmodeled mode's or an
+    /// appendage's two).
     fn n_states_with_effects(&self) -> usize {
-        self.n_states() + 2 * usize::from(self.effects.iter().any(|e| e.kind() == EffectKind::UnmodeledMode))
+        self.n_states() + self.effects.iter().map(Effect::added_states).sum::<usize>()
     }
 }

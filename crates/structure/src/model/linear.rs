@@ -57,9 +57,26 @@ impl StructureModel {
         };
         let mut space = self.checked.compiled.state_space_damped(&p[..n_file], &dampers)?;
         for (effect, start) in self.effect_offsets() {
-            if let Effect::UnmodeledMode { driven_by, .. } = effect {
-                let input = driven_by.as_ref().and_then(|d| self.input_names().iter().position(|i| i == d));
-                crate::effects::append_mode(&mut space, &p[start..], input);
+            match effect {
+                Effect::UnmodeledMode { driven_by, .. } => {
+                    let input =
+                        driven_by.as_ref().and_then(|d| self.input_names().iter().position(|i| i == d));
+                    crate::effects::append_mode(&mut space, &p[start..], input);
+                }
+                Effect::Appendage { coordinate, .. } => {
+                    let Some(j) = self.coordinate_index(coordinate) else { continue };
+                    let compiled = &self.checked.compiled;
+                    let values = compiled.values(&p[..n_file])?;
+                    let (g, _) = compiled.force_columns(&values, &[j])?;
+                    let n = self.coordinates().len();
+                    // G = [0; −M⁻¹e_j]: the reaction's column is its negative.
+                    let reaction =
+                        mem::nalgebra::DVector::from_iterator(g.nrows(), g.column(0).iter().map(|&v| -v));
+                    crate::effects::append_appendage(&mut space, &p[start..], j, n, &reaction, |delta| {
+                        compiled.acceleration_share(delta, &values, n)
+                    });
+                }
+                _ => {}
             }
         }
         Ok(space)
@@ -86,7 +103,7 @@ impl StructureModel {
     /// not converge.
     pub fn modes(&self) -> Result<Vec<StructureMode>, StructureError> {
         let space = self.checked.compiled.state_space::<f64>(&self.values)?;
-        modes_of(&space.a, self.is_second_order().then_some(space.a.nrows() / 2))
+        modes_of(&space.a, self.is_second_order().then(|| self.coordinates().len()))
     }
 }
 
@@ -103,7 +120,11 @@ impl mem::StateSpaceModel for StructureModel {
     fn state_space<D: Scalar>(&self, p: &[D]) -> Result<StateSpace<D>, mem::BoxedError> {
         // Sensor effects and forces are not linear state-space parts: fitting without them
         // would be a silently wrong answer.
-        if let Some(e) = self.effects.iter().find(|e| !matches!(e.kind(), EffectKind::UnmodeledMode)) {
+        if let Some(e) = self
+            .effects
+            .iter()
+            .find(|e| !matches!(e.kind(), EffectKind::UnmodeledMode | EffectKind::Appendage))
+        {
             return Err(Box::new(StructureError::InvalidEffect {
                 reason: format!(
                     "the model's {:?} is not part of its linear state space; fit it through models::Model",

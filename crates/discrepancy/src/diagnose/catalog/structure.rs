@@ -5,7 +5,7 @@
 //! its free decay or, on a forced record, in its response to the record's inputs; there the mode
 //! is driven by an input, from rest).
 
-use super::{Clear, LIGHTLY_DAMPED, Located, Strength, Trial, mode_seeds};
+use super::{Clear, LIGHTLY_DAMPED, Located, Seed, Strength, Trial, mode_seeds};
 use crate::localise::Localisation;
 use faer::Mat;
 use mem::Measurement;
@@ -23,7 +23,7 @@ pub(super) fn kind(effect: &Effect) -> EffectKind {
         Effect::DryFriction { .. } => EffectKind::CoulombFriction,
         Effect::Drag { .. } => EffectKind::QuadraticDrag,
         Effect::CubicStiffness { .. } => EffectKind::CubicStiffness,
-        Effect::UnmodeledMode { .. } => EffectKind::UnmodeledMode,
+        Effect::UnmodeledMode { .. } | Effect::Appendage { .. } => EffectKind::UnmodeledMode,
     }
 }
 
@@ -319,7 +319,9 @@ pub(super) fn trials(
         })
         .unwrap_or_default();
     let several = drives.len() > 1;
-    for seed in mode_seeds(&modelled, LIGHTLY_DAMPED, localisation, &[]) {
+    let seeds = mode_seeds(&modelled, LIGHTLY_DAMPED, localisation, &[]);
+    out.extend(appendages(model, record, &seeds, &outputs, forced));
+    for seed in seeds {
         for drive in &drives {
             let (f, zeta, (low, high)) = (seed.frequency, seed.damping, seed.range);
             // A ringing's amplitude is the residual's RMS; a driven mode's, per unit input.
@@ -368,11 +370,75 @@ pub(super) fn trials(
     out
 }
 
-/// Whether the model already has an effect of `effect`'s kind where it acts (for an unmodeled
-/// mode, anywhere: a second mode is not offered).
+/// Whether the model already has an effect of `effect`'s kind where it acts (for a mode, an
+/// unmodeled one or an appendage, any mode anywhere: a second mode is not offered).
 pub(in crate::diagnose) fn has_effect(model: &StructureModel, effect: &Effect) -> bool {
+    let mode = |e: &Effect| kind(e) == EffectKind::UnmodeledMode;
     model.effects().iter().any(|have| {
-        have.kind() == effect.kind()
-            && (have.target() == effect.target() || effect.kind() == structure::EffectKind::UnmodeledMode)
+        (have.kind() == effect.kind() && have.target() == effect.target()) || (mode(have) && mode(effect))
     })
+}
+
+/// The share of a coordinate's mass an appendage starts with.
+const APPENDAGE_START_MASS: f64 = 0.02;
+
+/// A mode the model lacks as a mass on a spring and damper at a coordinate
+/// ([`Effect::Appendage`]), at every coordinate for every mode seed: where the missing mode is
+/// a body hanging on the structure, it pushes back on it, and a ringing added to the outputs
+/// (the free [`Effect::UnmodeledMode`]) cannot follow what its release or its reaction does to
+/// the structure's own modes. Its mass starts at [`APPENDAGE_START_MASS`] of the coordinate's
+/// (bounds 10⁻⁴–1 of it); in free decay it is released with its spring's force F_r
+/// (`appendage_release_<c>`, bounds ± the coordinate's stiffness force at its peak
+/// displacement, k_jj q̂, from 0: relaxed), on a forced record it starts at rest with the
+/// structure. Its strength is the larger of the mass's and the release's resolution from zero.
+fn appendages(
+    model: &StructureModel,
+    record: &Measurement,
+    seeds: &[Seed],
+    outputs: &[String],
+    forced: bool,
+) -> Vec<Trial> {
+    let Some(so) = model.second_order::<f64>(&model.values()).ok().flatten() else { return Vec::new() };
+    let mut out = Vec::new();
+    for Scales { coordinate: c, q, k, .. } in scales(model, Some(record)) {
+        let Some(j) = model.coordinates().iter().position(|n| *n == c) else { continue };
+        let m = so.m[(j, j)];
+        for seed in seeds {
+            let (zeta, (low, high)) = (seed.damping, seed.range);
+            let located = Located {
+                name: format!("appendage_frequency_{c}"),
+                limits: seed.limits,
+                prefix: format!("unmodeled_mode({c}, "),
+                damping: format!("appendage_damping_{c}"),
+            };
+            let at = |f: f64| Effect::Appendage {
+                coordinate: c.clone(),
+                mass: APPENDAGE_START_MASS * m,
+                frequency_hz: f,
+                damping_ratio: zeta.clamp(0.005, 0.15),
+                release_force: (!forced).then_some(0.0),
+            };
+            let mut bounds = vec![
+                (format!("appendage_mass_{c}"), (1e-4 * m, m)),
+                (located.name.clone(), (low, high)),
+                (located.damping.clone(), (0.0, 0.2)),
+            ];
+            let mut strength = vec![format!("appendage_mass_{c}")];
+            if !forced {
+                bounds.push((format!("appendage_release_{c}"), (-k * q, k * q)));
+                strength.push(format!("appendage_release_{c}"));
+            }
+            let mut t = trial(
+                at(seed.frequency),
+                located.label(seed.frequency),
+                bounds,
+                vec![Strength::Largest(strength)],
+                outputs,
+            )
+            .or_from_other_starts(seed, at);
+            t.located = Some(located);
+            out.push(t);
+        }
+    }
+    out
 }
