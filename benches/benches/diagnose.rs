@@ -18,7 +18,9 @@
 //! without them. A named spring's form test, with its rival law in time (eight more
 //! parameters refitted from the reference): the building whose storey-1 spring hardens
 //! (`cubic_q1.csv`, the spring named) and whose storey-2 spring loses stiffness early and
-//! settles (`settling_q2.csv`, the spring set aside for the law).
+//! settles (`settling_q2.csv`, the spring set aside for the law). An appendage at every
+//! coordinate for every mode seed: the building with a 35 kg appendage on floor 1 released so
+//! that it rings (`appendage_ringing_q1.csv`, named at q1).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use discrepancy::{DiagnoseOptions, diagnose, quantization};
@@ -52,7 +54,7 @@ fn bench_diagnose(c: &mut Criterion) {
     group.bench_function("diagnose/shear_building_quant_after_q3", |b| {
         b.iter(|| diagnose(black_box(&model), &data, &options).unwrap())
     });
-    for case in ["cubic_q1", "settling_q2"] {
+    for case in ["cubic_q1", "settling_q2", "appendage_ringing_q1"] {
         let data = mem::Measurement::read_csv(&fixture(&format!("independent/effects/{case}.csv"))).unwrap();
         group.bench_function(format!("diagnose/shear_building_{case}"), |b| {
             b.iter(|| diagnose(black_box(&model), &data, &options).unwrap())

@@ -24,6 +24,16 @@ Families (as studies/diagnose, so that its score.py scores them):
      that loses 2 / 5 / 10 % of its stiffness by the record's end, by an exponential law in time
      (tau 1-4 s) or in a sudden smooth step (tanh, at 1-4 s, width 0.3 s)
 
+With --ringing-appendages six family-A cases are appended (free decay only): the appendage form
+again (1 / 2.5 / 5 % mass, 15-25 Hz, a floor at random), released displaced from its floor so that
+it rings, by as much as makes its ringing as visible as the offsets' ladder, 0.5 N b^2 nats for
+b = 0.15 / 0.4 / 1 sigma (weak / medium / strong; ring_nats: the part of what the release adds to
+q1 and q3 in the span of the coupled mode, in noise sigma). Released relaxed (the appendage form
+above), an appendage moves with its floor and shows in a free decay as an added mass, at the noise
+(studies/structure/appendage_bound.py); these show it as a mode. The truth records the release [m],
+ring_nats and the coupled mode's frequency and damping (coupled_f, coupled_zeta). Appended after
+every other case, so that a seed's other cases are those without it.
+
 With --accelerations the records are the floor accelerations a1, a3 (q'' from the equations of
 motion, the effects' forces included) instead of the displacements, diagnosed with
 fixtures/shear_building_acc2.ron; the truth's draws are the same as without it, so a seed gives
@@ -46,6 +56,7 @@ seen as a mode of its own (see resonance_nats). --check first compares the inter
 of the linear building (the matrix exponential), and stops unless --out is given too.
 
 usage:  python3 studies/structure/generate.py --out DIR --set dev|held [--seed N] [--more-c] [--more-degrading]
+                                              [--ringing-appendages]
                                               [--accelerations | --forced [--input-noise L]] [--check]
 """
 import argparse
