@@ -243,6 +243,24 @@ pub struct TimeLaw {
     pub as_well: bool,
 }
 
+/// The rival to a named mode on a structure (module `damping`): no mode, but a linear damper at
+/// every coordinate without a drag, all refitted at once — the model's damping distributed
+/// otherwise than its form gives. The mode keeps its name only where it explains the record
+/// better than the dampers by the held-out threshold in sample; else it is set aside
+/// ([`Verdict::DampingDistribution`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct DampingRival {
+    /// The dampers c_j refitted from the reference (`drag_<c>`, exponent 1) \[N·s/m\].
+    pub dampers: Vec<EffectParameter>,
+    /// In-sample gain of the dampers over the reference (nats).
+    pub gain: f64,
+    /// In-sample gain of the named mode over the reference (nats).
+    pub effect_gain: f64,
+    /// Whether the dampers explain the record as well as the mode: `effect_gain − gain` short of
+    /// the held-out threshold. Then the mode is set aside.
+    pub as_well: bool,
+}
+
 /// The static peak of a named dry friction, refitted beside it (step 8 of
 /// [module `diagnose`](mod@crate::diagnose); module `friction`): τ = −(F_c + ΔF e^{−(θ̇/v_st)²})
 /// tanh(θ̇/v_s).
@@ -354,6 +372,11 @@ pub enum Verdict {
     /// is missing is accounted for better than by this effect, and what accounts for it better
     /// only stands in for it — physics outside the catalog, so nothing is named.
     Outpredicted,
+    /// A mode the model lacks that a linear damper at every coordinate, refitted at once,
+    /// explains as well ([`DampingRival`]): the structure's damping is distributed otherwise than
+    /// the model's form gives — a mismatch of its own damping, not a missing mode — so nothing is
+    /// named.
+    DampingDistribution,
     /// An effect acting through the dynamics, on a forced record whose recorded force is noisy,
     /// that removes less of the residual than [`super::FORCE_NOISE_SHARE`] of what the force's
     /// noise puts there ([`crate::frf::InputNoise`]): it may only take up the model's response to
@@ -523,6 +546,10 @@ pub struct Diagnosis {
     /// with time by a law of its own ([`TimeLaw`]). `None` otherwise, also where a test before
     /// it set the force aside.
     pub time_law: Option<TimeLaw>,
+    /// The rival of a named mode on a structure, if one was named: a linear damper at every
+    /// coordinate ([`DampingRival`]); where it explains the record as well, the mode was set
+    /// aside as [`Verdict::DampingDistribution`].
+    pub damping: Option<DampingRival>,
     /// For a named `coulomb_friction` on the slewing rig: its static peak refitted beside it
     /// ([`StaticPeak`]); `None` otherwise, or when a refit failed.
     pub static_peak: Option<StaticPeak>,

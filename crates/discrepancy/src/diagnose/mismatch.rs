@@ -200,7 +200,10 @@ pub fn rival_parameters(model: &Model, record: Option<&Measurement>, refitted: &
 
 /// A linear damper at each coordinate of a second-order structure that has no drag there
 /// ([`rival_parameters`]).
-fn linear_dampers(model: &structure::StructureModel, record: Option<&Measurement>) -> Vec<RivalTrial> {
+pub(super) fn linear_dampers(
+    model: &structure::StructureModel,
+    record: Option<&Measurement>,
+) -> Vec<RivalTrial> {
     let outputs = model.output_names();
     scales(model, record)
         .into_iter()

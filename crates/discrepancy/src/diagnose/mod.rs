@@ -99,6 +99,12 @@
 //! in time makes: a spring's distortion within each cycle, a damping that changes with the
 //! amplitude.
 //!
+//! A mode named on a structure (ringing in the outputs, or an appendage at a coordinate) must
+//! likewise explain the record better, by the threshold in sample, than a linear damper at every
+//! coordinate refitted at once ([`DampingRival`], module `damping`; where it does not,
+//! [`Verdict::DampingDistribution`]): an appendage beside a modelled mode damps it as a tuned
+//! mass does, and so stands in for damping distributed otherwise than the model's form gives.
+//!
 //! A named dry friction on the slewing rig is then refitted with a static peak beside it,
 //! τ = −(F_c + ΔF e^{−(θ̇/v_st)²}) tanh(θ̇/v_s) (Stribeck; Armstrong-Hélouvry, Dupont & Canudas de
 //! Wit, Automatica 30(7), 1994): where ΔF and v_st are determined and the peak gains at least
@@ -127,6 +133,7 @@ mod answer;
 mod assess;
 pub mod catalog;
 mod crosstalk;
+mod damping;
 pub mod evidence;
 mod force_noise;
 mod friction;
@@ -147,8 +154,9 @@ mod spring;
 mod time_law;
 
 pub use answer::{
-    AddedTerm, Candidate, Departures, Diagnosis, EffectParameter, Evidence, Moved, RIVAL_MARGIN, Rival,
-    SaturationKnee, ScaleChoice, SecondaryMismatch, SpringForm, SpringTerm, StaticPeak, TimeLaw, Verdict,
+    AddedTerm, Candidate, DampingRival, Departures, Diagnosis, EffectParameter, Evidence, Moved,
+    RIVAL_MARGIN, Rival, SaturationKnee, ScaleChoice, SecondaryMismatch, SpringForm, SpringTerm, StaticPeak,
+    TimeLaw, Verdict,
 };
 pub use force_noise::FORCE_NOISE_SHARE;
 pub use options::{
@@ -323,6 +331,7 @@ pub fn diagnose_observed(
     let mut rivals = Vec::new();
     let mut spring = None;
     let mut time_law = None;
+    let mut damping = None;
     let mut static_peak = None;
     let mut fading = None;
     let mut saturation_knee = None;
@@ -413,6 +422,13 @@ pub fn diagnose_observed(
             candidates[i].verdict = Verdict::TimeVarying;
             return None;
         }
+        // A structure's mode set against the model's damping distributed otherwise: a linear
+        // damper at every coordinate (module `damping`).
+        damping = effect_gain.and_then(|g| damping::rival(trial, &test, g));
+        if damping.as_ref().is_some_and(|d| d.as_well) {
+            candidates[i].verdict = Verdict::DampingDistribution;
+            return None;
+        }
         // A named saturation: is its limit softer than the catalog's limiter?
         saturation_knee = saturation::knee(&mut candidates[i], trial, &test);
         Some(i)
@@ -452,6 +468,7 @@ pub fn diagnose_observed(
         rivals,
         spring,
         time_law,
+        damping,
         static_peak,
         fading,
         saturation_knee,

@@ -64,6 +64,9 @@ pub struct DiagnosisReport<'a> {
     /// stiffness at a coordinate that changes with time by a law of its own, in place of the
     /// force, and whether it explains the record as well; absent otherwise.
     pub time_law: Option<&'a super::TimeLaw>,
+    /// The rival of a named mode on a structure: a linear damper at every coordinate; where it
+    /// explains the record as well, the mode was set aside ([`super::Verdict::DampingDistribution`]).
+    pub damping: Option<&'a super::DampingRival>,
     /// For a named `coulomb_friction` on the slewing rig: its static (Stribeck) peak refitted
     /// beside it, and whether the data demand it — demanded, the named friction carries it;
     /// absent otherwise.
@@ -160,6 +163,7 @@ impl Diagnosis {
             asymmetric_spring: self.spring.as_ref().and_then(|f| f.asymmetric.as_ref()),
             changing_spring: self.spring.as_ref().map(|f| &f.changing),
             time_law: self.time_law.as_ref(),
+            damping: self.damping.as_ref(),
             static_friction_peak: self.static_peak.as_ref(),
             fading_servo: self.fading.as_ref(),
             saturation_knee: self.saturation_knee.as_ref(),

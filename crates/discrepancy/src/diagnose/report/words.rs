@@ -1,7 +1,7 @@
 //! The answer in words: why this effect, or why none and what remains, and a named effect's
 //! form (a friction's static peak, a saturation's knee).
 
-use super::super::{Diagnosis, EffectParameter, SaturationKnee, StaticPeak, TimeLaw, Verdict};
+use super::super::{DampingRival, Diagnosis, EffectParameter, SaturationKnee, StaticPeak, TimeLaw, Verdict};
 use crate::quantization;
 
 impl Diagnosis {
@@ -141,6 +141,7 @@ impl Diagnosis {
                         Verdict::MatchedByMismatch
                             | Verdict::Asymmetric
                             | Verdict::TimeVarying
+                            | Verdict::DampingDistribution
                             | Verdict::Outpredicted
                     )
                 });
@@ -238,6 +239,11 @@ impl Diagnosis {
                                     None => format!("{:?}", best.verdict),
                                 }
                             }
+                            // A structure's mode set aside for its damping distributed otherwise.
+                            Verdict::DampingDistribution => match &self.damping {
+                                Some(rival) => rival.sentence(best.evidence.in_sample, self.threshold),
+                                None => format!("{:?}", best.verdict),
+                            },
                             // A structure force set aside for a stiffness that changes with time.
                             Verdict::TimeVarying if law_aside.is_some() => law_aside
                                 .map_or_else(String::new, |law| law.sentence(best.evidence.in_sample, self.threshold)),
@@ -325,6 +331,26 @@ impl TimeLaw {
             self.coordinate,
             self.values.len(),
             self.times.last().copied().unwrap_or(0.0),
+            self.gain,
+            self.effect_gain,
+        )
+    }
+}
+
+impl DampingRival {
+    /// Why the named mode, whose own in-sample gain over the reference was `in_sample`, was set
+    /// aside for these dampers (the threshold it had to beat them by).
+    fn sentence(&self, in_sample: f64, threshold: f64) -> String {
+        format!(
+            "predictive on held-out blocks ({in_sample:.1} nats in sample), but a linear damper at every coordinate \
+             ({}), in its place, explains the record as well ({:.1} nats in sample against {:.1}; the named mode must \
+             explain {threshold:.0} more) — the structure's damping is distributed otherwise than the model's form \
+             gives (its modes' ratios), a mismatch of the model's own damping, for which the mode only stands in",
+            self.dampers
+                .iter()
+                .map(|d| with_se(d, format!("`{}` = {:.3e}", d.name, d.value)))
+                .collect::<Vec<_>>()
+                .join(", "),
             self.gain,
             self.effect_gain,
         )
