@@ -35,8 +35,9 @@
 //!
 //! **Effects** (`effects:`, module [`effects`]) add what a linear file leaves out: a sensor's
 //! offset, scale, drift or quantization on an output, dry friction, drag or a cubic spring at a
-//! coordinate (which make the model nonlinear: `models` integrates it), and an unmodeled mode
-//! (two states appended to the linear model). Their parameters join the file's.
+//! coordinate (which make the model nonlinear: `models` integrates it), an unmodeled mode and an
+//! appendage at a coordinate (two states each appended to the linear model). Their parameters
+//! join the file's.
 //!
 //! Every entry — of M, K, D, F, A, B, the output weights and rows, the initial state — may be an
 //! expression, so initial states too can be estimated. Derived names (`derived:`) are

@@ -27,6 +27,12 @@
 //!   by a measured input u_i instead (a forced record from rest), the same mode is its response
 //!   to that input, η̈ + 2ζ_eω_e η̇ + ω_e² η = ω_e² u_i, η(0) = η̇(0) = 0: a static gain of 1, so
 //!   a_o and b_o are the output's share per unit input.
+//! * **An appendage** at a coordinate q_j of a second-order model: a mass m_a on a spring
+//!   k_a = m_a ω_a² and damper c_a = 2ζ_a m_a ω_a (ω_a = 2π f_a), its displacement z two states
+//!   appended to x, m_a z̈ = −k_a (z − q_j) − c_a (ż − q̇_j), the coordinate feeling the
+//!   reaction through [0; M⁻¹e_j]; z(0) = q_j(0) + F_r/k_a with F_r its spring's force at the
+//!   release (0: relaxed). Linear, so the exact exponential path still applies; an
+//!   acceleration output reads the reaction through its rows of A.
 //!
 //! Every effect's parameters join the model's, after the file's, with names that say where they
 //! act: `offset_<output>`, `scale_<output>`, `drift_<output>`, `crosstalk_<output>_<from>`,
@@ -34,7 +40,9 @@
 //! `static_peak_<coordinate>`, `stribeck_velocity_<coordinate>`,
 //! `drag_<coordinate>`, `drag_exponent_<coordinate>`, `cubic_<coordinate>`, `quadratic_<coordinate>`, `quintic_<coordinate>`, `sided_<coordinate>`,
 //! `stiffness_rate_<coordinate>`, `stiffness_change_<coordinate>_<i>`, `mode_frequency`,
-//! `mode_damping`, `mode_cos_<output>`, `mode_sin_<output>`. A quantization step and a friction's
+//! `mode_damping`, `mode_cos_<output>`, `mode_sin_<output>`, `appendage_mass_<coordinate>`,
+//! `appendage_frequency_<coordinate>`, `appendage_damping_<coordinate>`,
+//! `appendage_release_<coordinate>`. A quantization step and a friction's
 //! smoothing width are settings, not parameters.
 
 mod checks;
