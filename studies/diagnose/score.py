@@ -206,7 +206,7 @@ def report(recs, set_dir, wall):
     if A:
         P("## Family A: confusion (true effect → named effect), per strength")
         P("")
-        P("`*` marks a sensor effect named with the wrong sensor.")
+        P("`*` marks a sensor effect named with the wrong sensor, or an appendage named at the wrong floor.")
         for s in ("weak", "medium", "strong"):
             rs = [r for r in A if r["strength"] == s]
             if not rs:
