@@ -431,6 +431,11 @@ pub fn diagnose_observed(
         }
         // A named saturation: is its limit softer than the catalog's limiter?
         saturation_knee = saturation::knee(&mut candidates[i], trial, &test);
+        // A named appendage's floor is claimed only where the data tell it from the same mode
+        // at another floor.
+        if let Some(label) = named::floor_untold(&candidates, i, options.threshold) {
+            candidates[i].label = label;
+        }
         Some(i)
     })();
     // The equivalents belong to a named scale only; the rivals to a named effect or to the one

@@ -271,10 +271,41 @@ pub(super) fn choose(candidates: &[Candidate], threshold: f64) -> Option<usize> 
     })
 }
 
+/// The coordinate of an appendage candidate (`appendage_frequency_<c>` among its parameters)
+/// and its frequency.
+fn appendage_at(candidate: &Candidate) -> Option<(&str, f64)> {
+    candidate.parameters.iter().find_map(|p| Some((p.name.strip_prefix("appendage_frequency_")?, p.value)))
+}
+
+/// For a named appendage at coordinate c: its label without the floor, where the same mode
+/// hung at another coordinate fits the record within `threshold` of it in sample (refitted, with
+/// whatever verdict) — the record shows the mode but does not say where it hangs, and the floor
+/// is a further claim the data do not make (the forced draw 20261308: a weak appendage on floor 2,
+/// 9.4 resonance nats, named at floor 1, 27.7 nats in sample against floor 2's 28.0, not resolved
+/// at 2.93 σ). The label then lists the floors not told apart, the named one first:
+/// `unmodeled_mode(15.81 Hz; at q1 or q2)`. `None` for another effect, or a floor told apart.
+pub(super) fn floor_untold(candidates: &[Candidate], chosen: usize, threshold: f64) -> Option<String> {
+    let named = &candidates[chosen];
+    let (floor, f) = appendage_at(named)?;
+    let mut floors = vec![floor.to_string()];
+    for c in candidates.iter().filter(|c| !matches!(c.verdict, Verdict::Failed(_))) {
+        if let Some((other, _)) = appendage_at(c)
+            && !floors.iter().any(|f| f == other)
+            && c.evidence.in_sample > named.evidence.in_sample - threshold
+        {
+            floors.push(other.to_string());
+        }
+    }
+    (floors.len() > 1).then(|| {
+        let (last, rest) = floors.split_last().expect("two or more");
+        format!("unmodeled_mode({f:.2} Hz; at {} or {last})", rest.join(", "))
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::diagnose::Evidence;
+    use crate::diagnose::{EffectParameter, Evidence};
     use plant::Sensor;
 
     fn passing(kind: EffectKind, held_out: f64, delta_bic: f64, strength_z: f64) -> Candidate {
@@ -382,5 +413,36 @@ mod tests {
         // A lattice is neither tested nor set against.
         let lattice = with(passing(EffectKind::SensorQuantization, 0.0, -9000.0, 50.0), Verdict::Named, 0.0);
         assert_eq!(outpredicted_by(&[lattice, leaves], 0, 10.0), None);
+    }
+
+    /// A named appendage's floor is dropped from its label where the same mode at another
+    /// floor fits within the threshold in sample, whatever that one's verdict; told apart, the
+    /// label keeps it.
+    #[test]
+    fn an_appendage_floor_not_told_apart_is_not_claimed() {
+        let at = |floor: &str, in_sample: f64, verdict: Verdict| {
+            let mut c = passing(EffectKind::UnmodeledMode, 20.0, -20.0, 3.1);
+            c.label = format!("unmodeled_mode({floor}, 15.81 Hz)");
+            c.parameters = vec![EffectParameter {
+                name: format!("appendage_frequency_{floor}"),
+                value: 15.81,
+                std_error: Some(0.1),
+            }];
+            c.evidence.in_sample = in_sample;
+            c.verdict = verdict;
+            c
+        };
+        let named = at("q1", 27.7, Verdict::Named);
+        let close = at("q2", 28.0, Verdict::Unresolved);
+        let far = at("q3", 12.0, Verdict::Weak);
+        let label = floor_untold(&[named.clone(), close.clone(), far.clone()], 0, 10.0);
+        assert_eq!(label.as_deref(), Some("unmodeled_mode(15.81 Hz; at q1 or q2)"));
+        // The floor told apart: kept. A failed refit does not count.
+        assert_eq!(floor_untold(&[named.clone(), far], 0, 10.0), None);
+        let failed = Candidate { verdict: Verdict::Failed("no".into()), ..close };
+        assert_eq!(floor_untold(&[named, failed], 0, 10.0), None);
+        // Not an appendage: nothing to drop.
+        let ringing = passing(EffectKind::UnmodeledMode, 20.0, -20.0, 3.1);
+        assert_eq!(floor_untold(&[ringing], 0, 10.0), None);
     }
 }
