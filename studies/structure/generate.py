@@ -227,9 +227,9 @@ def ring_nats(M, K, D, extra, release, sigma):
     x[0] = x0
     for k in range(N - 1):
         x[k + 1] = E @ x[k]
-    d = x[:, MEASURED] / sigma if max(MEASURED) < 3 else None
-    if d is None:  # --accelerations: the floors' accelerations, q'' = (A x)[v]
-        d = (x @ A.T)[:, [m - 3 for m in MEASURED]] / sigma
+    # The measured columns (simulate's q, v, q'' order): displacements, or with --accelerations
+    # the floors' accelerations q'' = (A x)[v].
+    d = (x[:, MEASURED] if max(MEASURED) < 3 else (x @ A.T)[:, [m - 3 for m in MEASURED]]) / sigma
     q, _ = np.linalg.qr(basis)
     return float(0.5 * np.sum((q.T @ d) ** 2))
 

@@ -5,8 +5,10 @@
 //! and by accelerations, with a drag beside it on the nonlinear path; its sensitivities against
 //! central differences; and its file errors.
 
+mod common;
+
+use common::{assert_central_differences, respond, with_effects_in as with_effects};
 use expm::Response;
-use mem::{Grid, ResponseModel};
 use models::Model;
 
 const FILE: &str = include_str!("../../../fixtures/shear_building.ron");
@@ -29,12 +31,6 @@ fn appendage() -> String {
         "Appendage(coordinate: \"q2\", mass: {MASS}, frequency_hz: {FREQUENCY}, damping_ratio: {DAMPING}, \
          release_force: Some({RELEASE}))"
     )
-}
-
-/// `file` with `effects` added.
-fn with_effects(file: &str, effects: &str) -> Model {
-    let text = file.trim_end().trim_end_matches(')').to_string() + &format!("    effects: [{effects}],\n)\n");
-    Model::from_ron(&text, "building.ron").expect("the file reads")
 }
 
 /// The building with the appendage as its fourth coordinate `z`, by hand: M = diag(1000 ×3,
@@ -85,12 +81,6 @@ fn four_coordinates(outputs: &str, effects: &str) -> Model {
         rows(&d)
     );
     Model::from_ron(&text, "four.ron").expect("the four-coordinate file reads")
-}
-
-fn respond(model: &dyn ResponseModel, p: &[f64], k: usize, h: f64) -> Response {
-    let mut out = Response::zeros(k, model.output_names().len(), model.n_params());
-    model.respond(p, &Grid::free(h), &mut out).expect("it simulates");
-    out
 }
 
 /// The largest difference of two responses' outputs relative to the second's peak, per output.
@@ -162,26 +152,7 @@ fn appendage_sensitivities_are_central_differences() {
     let (k, h) = (400, 0.005);
     let out = respond(response.as_ref(), &p, k, h);
     for i in 0..free.len() {
-        let step = 1e-5 * p[i].abs();
-        let shifted = |s: f64| {
-            let mut q = p.clone();
-            q[i] += s;
-            respond(response.as_ref(), &q, k, h).outputs
-        };
-        let (plus, minus) = (shifted(step), shifted(-step));
-        let scale = (0..k * 2).map(|r| out.sensitivities[(r, i)].abs()).fold(0.0, f64::max);
-        assert!(scale > 0.0, "{}: zero sensitivity", free[i]);
-        for s in 0..k {
-            for o in 0..2 {
-                let fd = (plus[(s, o)] - minus[(s, o)]) / (2.0 * step);
-                let exact = out.sensitivities[(s * 2 + o, i)];
-                assert!(
-                    (fd - exact).abs() < 1e-5 * scale,
-                    "{} at sample {s}, output {o}: {exact:e} vs {fd:e}",
-                    free[i]
-                );
-            }
-        }
+        assert_central_differences(response.as_ref(), &p, &out, i, h, 1e-5);
     }
 }
 

@@ -3,22 +3,18 @@
 //! hand, their sensitivities against central differences, the unmodeled mode against its closed
 //! form, the sensor terms against their definition, and the file's errors and round trip.
 
+mod common;
+
+use common::{assert_central_differences, respond};
 use expm::Response;
-use mem::{Grid, ResponseModel};
+use mem::Grid;
 use models::Model;
 
 const FILE: &str = include_str!("../../../fixtures/shear_building.ron");
 
 /// The fixture with `effects` added to its file.
 fn with_effects(effects: &str) -> Model {
-    let text = FILE.trim_end().trim_end_matches(')').to_string() + &format!("    effects: [{effects}],\n)\n");
-    Model::from_ron(&text, "building.ron").expect("the file reads")
-}
-
-fn respond(model: &dyn ResponseModel, p: &[f64], k: usize, h: f64) -> Response {
-    let mut out = Response::zeros(k, model.output_names().len(), model.n_params());
-    model.respond(p, &Grid::free(h), &mut out).expect("it simulates");
-    out
+    common::with_effects_in(FILE, effects)
 }
 
 /// The nominal building, by hand: M = 1000 I, K from k1..k3, D = αM + βK.
@@ -43,38 +39,6 @@ fn worst_against(out: &Response, reference: &[[f64; 3]]) -> (f64, f64) {
         })
         .fold(0.0, f64::max);
     (worst, peak)
-}
-
-/// Holds sensitivity column `i` of `out` (the response at `p`, two outputs) to central
-/// differences of the response with relative step 10⁻⁵, within `tolerance` of the column's scale.
-fn assert_central_differences(
-    response: &dyn ResponseModel,
-    p: &[f64],
-    out: &Response,
-    i: usize,
-    h: f64,
-    tolerance: f64,
-) {
-    let k = out.outputs.nrows();
-    let step = 1e-5 * p[i].abs();
-    let shifted = |s: f64| {
-        let mut q = p.to_vec();
-        q[i] += s;
-        respond(response, &q, k, h).outputs
-    };
-    let (plus, minus) = (shifted(step), shifted(-step));
-    let scale = (0..k * 2).map(|r| out.sensitivities[(r, i)].abs()).fold(0.0, f64::max);
-    assert!(scale > 0.0, "sensitivity {i} is zero");
-    for s in 0..k {
-        for o in 0..2 {
-            let fd = (plus[(s, o)] - minus[(s, o)]) / (2.0 * step);
-            let exact = out.sensitivities[(s * 2 + o, i)];
-            assert!(
-                (fd - exact).abs() < tolerance * scale,
-                "sensitivity {i} at sample {s}, output {o}: {exact:e} vs {fd:e}"
-            );
-        }
-    }
 }
 
 /// The asymmetric part k₂ of the spring at q1 in [`EFFECTS`].
