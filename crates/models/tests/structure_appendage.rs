@@ -173,6 +173,8 @@ fn an_impossible_appendage_is_refused_at_its_line() {
             "Appendage(coordinate: \"q2\", mass: 30, frequency_hz: 18, damping_ratio: 0.01, release_force: Some(inf))",
             "not finite",
         ),
+        ("Appendage(coordinate: \"q2\", mass: 30, frequency_hz: 1e200, damping_ratio: 0.01)", "overflows"),
+        ("Appendage(coordinate: \"q2\", mass: 1e305, frequency_hz: 100, damping_ratio: 0.01)", "overflows"),
     ] {
         let text = FILE.trim_end().trim_end_matches(')').to_string()
             + &format!("    effects: [\n        {effect},\n    ],\n)\n");

@@ -322,6 +322,16 @@ fn a_law_in_time_without_ordered_positive_times_is_refused() {
 }
 
 #[test]
+fn a_mode_whose_frequency_overflows_is_refused() {
+    let text = FILE.trim_end().trim_end_matches(')').to_string()
+        + "    effects: [UnmodeledMode(frequency_hz: 1e200, damping_ratio: 0.02, amplitudes: [(1e-3, 0), (0, 0)])],\n)\n";
+    let Err(error) = Model::from_ron(&text, "building.ron") else { panic!("refused") };
+    let error = error.to_string();
+    assert!(error.contains("overflows") && error.contains("building.ron"), "{error}");
+    assert_eq!(error.lines().count(), 1, "{error}");
+}
+
+#[test]
 fn an_unmodeled_mode_adds_its_closed_form() {
     let (f, zeta, (a1, b1), (a3, b3)): (f64, f64, (f64, f64), (f64, f64)) =
         (23.0, 0.02, (1e-3, -5e-4), (2e-4, 7e-4));

@@ -85,9 +85,22 @@ impl Effect {
                 Effect::Appendage { damping_ratio, .. } if *damping_ratio < 0.0 => {
                     Some(format!("damping_ratio = {damping_ratio}: give a ratio ≥ 0"))
                 }
+                Effect::Appendage { mass, frequency_hz, damping_ratio, .. }
+                    if !spring_and_damper_finite(*mass, *frequency_hz, *damping_ratio) =>
+                {
+                    Some(format!(
+                        "mass = {mass}, frequency_hz = {frequency_hz}, damping_ratio = {damping_ratio}: its stiffness \
+                         m(2πf)² or damping 2ζm(2πf) overflows; give values of a physical appendage"
+                    ))
+                }
                 Effect::UnmodeledMode { frequency_hz, damping_ratio, amplitudes, driven_by } => {
                     if *frequency_hz <= 0.0 {
                         Some(format!("frequency_hz = {frequency_hz}: give a positive frequency"))
+                    } else if !spring_and_damper_finite(1.0, *frequency_hz, *damping_ratio) {
+                        Some(format!(
+                            "frequency_hz = {frequency_hz}, damping_ratio = {damping_ratio}: (2πf)² or 2ζ(2πf) overflows; \
+                             give the frequency [Hz] and ratio of a physical mode"
+                        ))
                     } else if *damping_ratio < 0.0 {
                         Some(format!("damping_ratio = {damping_ratio}: give a ratio ≥ 0"))
                     } else if amplitudes.len() != outputs.len() {
@@ -110,4 +123,11 @@ impl Effect {
             }
         })
     }
+}
+
+/// Whether a mass on a spring and damper tuned to `frequency_hz` with ratio `zeta` has a finite
+/// stiffness m(2πf)² and damping 2ζm(2πf): values each finite alone can overflow in these.
+fn spring_and_damper_finite(mass: f64, frequency_hz: f64, zeta: f64) -> bool {
+    let omega = 2.0 * std::f64::consts::PI * frequency_hz;
+    (mass * omega * omega).is_finite() && (2.0 * zeta * mass * omega).is_finite()
 }
