@@ -89,7 +89,15 @@ fn csv_errors_name_the_line_and_column() {
         ("t,y\n0,1\n0.1,abc\n", "a.csv:3:2: `abc` is not a number"),
         ("t,y\n0,1\n0.1,inf\n", "a.csv:3:2: `inf` is not a finite number"),
         ("t,y\n0,1\n0.1,2,3\n", "a.csv:3: 3 fields"),
-        ("t,y\n0,1\n0.1,2\n0.25,3\n", "a.csv:3:1: time is not uniformly sampled"),
+        ("t,y\n0,1\n0.1,2\n0.25,3\n", "a.csv:4:1: time is not uniformly sampled: 0.25 after 0.1 is a gap"),
+        (
+            "t,y\n0,1\n0.1,2\n0.2,3\n0.5,4\n0.6,5\n",
+            "a.csv:5:1: time is not uniformly sampled: 0.5 after 0.2 is a gap of",
+        ),
+        (
+            "t,y\n0,1\n0.1,2\n0.15,3\n0.25,4\n0.35,5\n",
+            "a.csv:4:1: time is not uniformly sampled: 0.15 after 0.1 is a step of",
+        ),
         ("t,y,y\n0,1,1\n0.1,2,2\n", "a.csv:1:3: the column `y` appears twice"),
         ("t,y\n0,1\n", "need at least 2 samples"),
     ];

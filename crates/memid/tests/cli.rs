@@ -225,6 +225,17 @@ fn bad_inputs_give_one_line_and_status_2() {
     let uneven =
         csv("uneven.csv", "t,theta,theta_dot,strain\n0,0.5,0,0\n0.1,0.45,0,0\n0.25,0.4,0,0\n0.3,0.3,0,0\n");
     assert_bad(&fit(&uneven), "uneven.csv:4:1: time is not uniformly sampled");
+    // A record read off a clock that did not start at the release is fitted on the model's clock,
+    // and said so; one that starts at t = 0 is not.
+    let late = csv(
+        "late.csv",
+        "t,theta,theta_dot,strain\n100,0.5,0,0\n100.1,0.45,0,0\n100.2,0.4,0,0\n100.3,0.3,0,0\n",
+    );
+    let on_time =
+        csv("on_time.csv", "t,theta,theta_dot,strain\n0,0.5,0,0\n0.1,0.45,0,0\n0.2,0.4,0,0\n0.3,0.3,0,0\n");
+    let note = |out: &Output| String::from_utf8_lossy(&out.stderr).contains("starts at t = 100 s");
+    assert!(note(&fit(&late)), "{}", String::from_utf8_lossy(&fit(&late).stderr));
+    assert!(!note(&fit(&on_time)));
     let backwards = csv("backwards.csv", "t,theta,theta_dot,strain\n0,0.5,0,0\n0.1,0.45,0,0\n0.05,0.4,0,0\n");
     assert_bad(&fit(&backwards), "not increasing");
     let columns = csv("columns.csv", "t,angle\n0,0.5\n0.1,0.4\n0.2,0.3\n");

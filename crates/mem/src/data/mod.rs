@@ -336,6 +336,32 @@ impl Measurement {
     }
 }
 
+/// Where a record that is not uniform breaks its own step: the first step that differs from the
+/// record's usual one (the lower median of its steps) by more than the tolerance, said as a gap
+/// (samples missing) or a short step. `None` where no single step does (a slow drift of the
+/// stamps), which the caller reports against the mean grid.
+fn step_break(times: &[f64]) -> Option<MemError> {
+    let steps: Vec<f64> = times.windows(2).map(|w| w[1] - w[0]).collect();
+    let mut sorted = steps.clone();
+    sorted.sort_by(f64::total_cmp);
+    let usual = sorted[(sorted.len() - 1) / 2];
+    let k = steps.iter().position(|d| (d - usual).abs() > UNIFORM_TOLERANCE.sqrt() * usual)?;
+    let (before, t, step) = (times[k], times[k + 1], steps[k]);
+    let what = if step > usual {
+        let missing = (step / usual).round() as i64 - 1;
+        format!("a gap of {step} s, about {missing} sample(s) missing")
+    } else {
+        format!("a step of {step} s")
+    };
+    Some(MemError::Sample {
+        sample: k + 1,
+        message: format!(
+            "time is not uniformly sampled: {t} after {before} is {what}, where the record's step is {usual} s; \
+             give a uniformly sampled record (fill or cut at the gap)"
+        ),
+    })
+}
+
 /// (start, h) of strictly increasing, uniform time stamps.
 fn uniform_grid(times: &[f64], n_rows: usize) -> Result<(f64, f64), MemError> {
     if times.len() != n_rows {
@@ -361,16 +387,19 @@ fn uniform_grid(times: &[f64], n_rows: usize) -> Result<(f64, f64), MemError> {
     if !(h.is_finite() && h > 0.0) {
         return Err(MemError::InvalidData(format!("the sample interval {h} is not a positive number")));
     }
-    for (k, t) in times.iter().enumerate() {
-        let expected = times[0] + k as f64 * h;
-        if (t - expected).abs() > UNIFORM_TOLERANCE * h {
-            return Err(MemError::Sample {
-                sample: k,
-                message: format!(
-                    "time is not uniformly sampled: {t} where {expected} was expected (h = {h})"
-                ),
-            });
-        }
+    if let Some((k, expected)) = times
+        .iter()
+        .enumerate()
+        .map(|(k, t)| (k, times[0] + k as f64 * h))
+        .find(|(k, expected)| (times[*k] - expected).abs() > UNIFORM_TOLERANCE * h)
+    {
+        return Err(step_break(times).unwrap_or_else(|| MemError::Sample {
+            sample: k,
+            message: format!(
+                "time is not uniformly sampled: {} where {expected} was expected (h = {h})",
+                times[k]
+            ),
+        }));
     }
     Ok((times[0], h))
 }

@@ -1,6 +1,6 @@
 //! `memid era`: modal parameters of a measured free decay.
 
-use crate::io::{Inputs, print, read_measurement};
+use crate::io::print;
 use crate::output::{era_json, era_table};
 use anyhow::Result;
 use std::path::PathBuf;
@@ -25,7 +25,7 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
-    let mut data = read_measurement(&args.data, &mut Inputs::default())?;
+    let mut data = mem::Measurement::read_csv(&args.data)?;
     if let Some(r) = args.decimate {
         data = data.decimate(r)?;
     }

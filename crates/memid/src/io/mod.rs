@@ -11,9 +11,31 @@ use models::Model;
 use std::path::Path;
 
 /// Reads a CSV with header `t,<columns>` into a measurement; errors name the file, line and column.
+///
+/// A record is read on the model's clock: its initial state holds at t = 0, and a record whose
+/// first sample is later is fitted from there (docs/fitting.md). A record that starts more than
+/// half a sample after t = 0 is noted on stderr, since time stamps read off a clock that did not
+/// start at the release put the model's decay before the record.
 pub fn read_measurement(path: &Path, inputs: &mut Inputs) -> Result<Measurement> {
     inputs.add(path);
-    Ok(Measurement::read_csv(path)?)
+    let data = Measurement::read_csv(path)?;
+    if let Some(note) = late_start(path, &data) {
+        use std::io::Write;
+        let _ = writeln!(std::io::stderr(), "{note}");
+    }
+    Ok(data)
+}
+
+/// The note for a record whose first sample is more than half a sample after the model's t = 0.
+fn late_start(path: &Path, data: &Measurement) -> Option<String> {
+    (data.start() > 0.5 * data.interval()).then(|| {
+        format!(
+            "memid: note: {} starts at t = {} s; the model's initial state holds at t = 0 and is carried \
+             to the first sample (if the first sample is the release, shift the time column to start at 0)",
+            path.display(),
+            data.start()
+        )
+    })
 }
 
 /// Loads a model file of either kind and applies `--set NAME=VALUE` assignments.
