@@ -5,8 +5,14 @@
 //! The share is [`FORCE_NOISE_SHARE`]. Of what the force's noise puts into the residual, an
 //! effect that only damps or detunes the model's response to it removes a part — the part it
 //! can reach; a missing effect removes what it put there itself, however large. A sensor's
-//! effect acts on its readings, not through the dynamics, and cannot take up a response; it is
-//! not screened.
+//! offset or drift adds to its readings whatever the response and cannot take it up; it is not
+//! screened. A sensor's scale or crosstalk acts on the response it reads, the response to the
+//! noise included, and is screened like an effect through the dynamics.
+//!
+//! The noise's response is also a floor of structure ([`structure_floor`]): coloured by the
+//! model's own resonances, it is predictable from its past and so counts as structure in every
+//! residual, the true model's too. The share of the structure a candidate removes is measured
+//! beyond that floor (docs/diagnose.md, "The structure the force's noise leaves").
 //!
 //! What the noise accounts for is read from the residual each refit leaves, not the
 //! reference's: a missing effect at the driven floor leaves a residual shaped like the force's
@@ -20,11 +26,13 @@
 //! kept, and 0.41, lost).
 
 use super::catalog::Trial;
+use super::evidence::{NoiseModel, autocovariance, structure_of_spectrum};
 use super::{Candidate, Verdict};
 use crate::frf::{InputNoise, RecordedInputs};
 use faer::Mat;
 use mem::Measurement;
 use models::FitOutcome;
+use plant::EffectKind;
 
 /// The least share of what the recorded force's noise accounts for in a refit's residual
 /// ([`InputNoise::residual_power`]) which an effect acting through the dynamics must remove.
@@ -70,7 +78,7 @@ pub(super) fn screen(
     let noise = inputs.noise(&best.simulated, &best.residual)?;
     for ((candidate, trial), fit) in candidates.iter_mut().zip(trials).zip(&fits) {
         let Some(fit) = fit else { continue };
-        if candidate.verdict != Verdict::Outscored || trial.output.is_some() {
+        if candidate.verdict != Verdict::Outscored || !takes_up_the_response(trial.kind) {
             continue;
         }
         // What the force's noise accounts for in what this refit leaves: a refit that only
@@ -81,4 +89,90 @@ pub(super) fn screen(
         }
     }
     Some(noise)
+}
+
+/// Whether an effect of this kind is screened: every effect acting through the dynamics, and a
+/// sensor's that acts on the response it reads — a scale (1 + s)·y or a crosstalk y + g·y′.
+/// These scale the model's response, and what an output-error fit to a noisy force does to that
+/// response with it: the linear reference gives up some of its response to the force to answer
+/// less to the noise, and a scale above 1 gives it back (seen on the noisy-force draw 20261304,
+/// +0.4 % and +0.8 % on a white null and a weak drag). The screen is a proxy there: a scale
+/// takes up almost none of the noise's own response. An offset or a drift adds to the readings
+/// whatever the response, and is not screened.
+fn takes_up_the_response(kind: EffectKind) -> bool {
+    !matches!(kind, EffectKind::OutputOffset | EffectKind::SensorDrift | EffectKind::SensorQuantization)
+}
+
+/// Per output, the structure the recorded force's noise leaves in a residual through the
+/// model's response ([`NoiseModel::structure_floor`]): its spectrum read from `best`, the
+/// best-fitting model (the residual closest to the noise itself, as for ρ), then
+/// [`noise_structure`] over that residual's rows. `None` for a record without inputs.
+pub(super) fn structure_floor(best: &FitOutcome, data: &Measurement, noise: &NoiseModel) -> Option<Vec<f64>> {
+    let fit = Weighted::of(best);
+    let n = fit.residual.nrows();
+    let read = RecordedInputs::of(data, n)?.noise(&fit.simulated, &fit.residual)?;
+    Some(
+        read.spectra
+            .iter()
+            .zip(&read.floors)
+            .enumerate()
+            .map(|(o, (levels, floor))| {
+                let response: Vec<f64> = levels.iter().map(|l| (l - floor).max(0.0)).collect();
+                noise_structure(&response, *floor, noise.rho.get(o).copied().unwrap_or(0.0), n)
+            })
+            .collect(),
+    )
+}
+
+/// The structure (nats, [`structure_of_spectrum`]) `n` samples of the noise alone hold under
+/// the measurement model's ρ: the force's noise through the model's response (the one-sided
+/// spectrum `response` on Welch bins) beside the sensor's noise, whose level `floor` was read
+/// as white. The sensor's noise is given the AR(1) colour ρ_v that makes the two together
+/// correlated at lag one by ρ, as the residual ρ was read from is — ρ_v = (ρ(γ_v + γ_g,0) −
+/// γ_g,1)/γ_v, held in ±0.99 — so that a sensor coloured of itself is not counted as structure:
+/// without the force's noise the floor is then 0.
+fn noise_structure(response: &[f64], floor: f64, rho: f64, n: usize) -> f64 {
+    let bins = response.len();
+    let g = autocovariance(response, 1);
+    let v = autocovariance(&vec![floor; bins], 0)[0];
+    if v.is_nan() || v <= 0.0 {
+        return structure_of_spectrum(response, rho, n);
+    }
+    let rho_v = ((rho * (v + g[0]) - g[1]) / v).clamp(-0.99, 0.99);
+    let shape: Vec<f64> = (0..bins)
+        .map(|b| {
+            let w = std::f64::consts::PI * b as f64 / bins as f64;
+            (1.0 - rho_v * rho_v) / (1.0 - 2.0 * rho_v * w.cos() + rho_v * rho_v)
+        })
+        .collect();
+    let scale = v / autocovariance(&shape, 0)[0];
+    let total: Vec<f64> = shape.iter().zip(response).map(|(s, r)| scale * s + r).collect();
+    structure_of_spectrum(&total, rho, n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::noise_structure;
+
+    /// A white sensor floor alone, or one coloured of itself (read under its own ρ), holds no
+    /// structure; a resonance above it holds what the spectrum implies.
+    #[test]
+    fn the_noise_floor_counts_only_the_response_to_the_force_noise() {
+        let (bins, n) = (512, 4000);
+        let nothing = vec![0.0; bins];
+        for rho in [0.0, 0.4, 0.8] {
+            assert_eq!(noise_structure(&nothing, 1.0, rho, n), 0.0, "ρ {rho}");
+        }
+        // A resonance at a tenth of the Nyquist frequency, 20× the floor at its peak.
+        let response: Vec<f64> = (0..bins)
+            .map(|b| {
+                let x = (b as f64 - 51.2) / 3.0;
+                20.0 / (1.0 + x * x)
+            })
+            .collect();
+        let alone = noise_structure(&response, 1.0, 0.5, n);
+        assert!(alone > 50.0, "{alone}");
+        // Ten times more floor hides most of it.
+        assert!(noise_structure(&response, 10.0, 0.1, n) < alone / 2.0);
+    }
 }

@@ -5,6 +5,7 @@
 use super::answer::last_error;
 use super::catalog::Trial;
 use super::evidence::{self, NoiseModel};
+use super::force_noise;
 use super::options::MIN_STRUCTURE;
 use super::run::{self, Fitted, Folds};
 use super::{
@@ -12,6 +13,7 @@ use super::{
     min_structure_explained, schedule,
 };
 use crate::WorkflowError;
+use faer::Mat;
 use mem::Measurement;
 use models::{FitOutcome, Model};
 
@@ -78,19 +80,25 @@ impl Scoring<'_> {
             .chain(std::iter::once(&reference.outcome))
             .min_by(|a, b| last_error(a).total_cmp(&last_error(b)))
             .expect("the reference is there");
-        let noise = NoiseModel::of(&best.first().residual());
+        let mut noise = NoiseModel::of(&best.first().residual());
+        noise.structure_floor = force_noise::structure_floor(best, data, &noise).unwrap_or_default();
         let under = noise.fit_weights(&best.first().residual());
         let likelihoods = |outcome: &FitOutcome| noise.log_likelihoods(&outcome.first().residual(), None);
         let reference_likelihoods = likelihoods(&reference.outcome);
         let m = (data.n_samples() * data.n_outputs()) as f64;
-        let reference_per_output =
-            evidence::structure_per_output(&reference.outcome.first().residual(), &noise);
+        // The structure beyond the floor the force's noise leaves (0 without a recorded input).
+        let beyond = |residual: &Mat<f64>| -> Vec<f64> {
+            let floor = |o: usize| noise.structure_floor.get(o).copied().unwrap_or(0.0);
+            let per_output = evidence::structure_per_output(residual, &noise);
+            per_output.iter().enumerate().map(|(o, s)| (s - floor(o)).max(0.0)).collect()
+        };
+        let reference_per_output = beyond(&reference.outcome.first().residual());
         let reference_structure: f64 = reference_per_output.iter().sum();
         let share = |left: f64, held: f64| if held > MIN_STRUCTURE { 1.0 - left / held } else { 1.0 };
         // The share of the structure a refit removes, in all and on a sensor effect's own output
         // (one AR fit per output serves both).
         let explained = |outcome: &FitOutcome, output: Option<usize>| {
-            let left = evidence::structure_per_output(&outcome.first().residual(), &noise);
+            let left = beyond(&outcome.first().residual());
             let on = |o: usize| {
                 share(
                     left.get(o).copied().unwrap_or(0.0),

@@ -49,6 +49,14 @@ pub struct InputNoise {
     pub residual_power: f64,
     /// `residual_power` as a share of the residual's sum of squares.
     pub share: f64,
+    /// Per output, the fitted noise spectrum on the Welch bins 0…L/2 − 1 (in the residual's
+    /// weighted units): a_o + Σ_i β_i |G_oi(f)|² where an input excites the bin, the sensor's
+    /// floor a_o elsewhere — the residual's spectrum if nothing but the noise were left.
+    #[serde(skip)]
+    pub spectra: Vec<Vec<f64>>,
+    /// Per output, the sensor's floor a_o of `spectra`: the spectrum without the inputs' noise.
+    #[serde(skip)]
+    pub floors: Vec<f64>,
 }
 
 /// The noise on `data`'s recorded inputs, from a fitted model's `simulated` outputs and its
@@ -147,6 +155,15 @@ impl RecordedInputs {
                 * 2.0
                 / length as f64;
         let residual_power = k as f64 * per_output;
+        let spectra = (0..p)
+            .map(|o| {
+                let mut level = vec![theta[o]; bins];
+                for &b in &self.excited {
+                    level[b] += (0..m).map(|i| beta[i] * gain(o, i, b)).sum::<f64>();
+                }
+                level
+            })
+            .collect();
         let total: f64 = (0..p).map(|o| residual.col(o).squared_norm_l2()).sum();
         Some(InputNoise {
             inputs: self
@@ -161,6 +178,8 @@ impl RecordedInputs {
                 .collect(),
             residual_power,
             share: if total > 0.0 { (residual_power / total).min(1.0) } else { 0.0 },
+            spectra,
+            floors: theta[..p].to_vec(),
         })
     }
 }

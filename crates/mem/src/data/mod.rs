@@ -387,10 +387,8 @@ fn uniform_grid(times: &[f64], n_rows: usize) -> Result<(f64, f64), MemError> {
     if !(h.is_finite() && h > 0.0) {
         return Err(MemError::InvalidData(format!("the sample interval {h} is not a positive number")));
     }
-    if let Some((k, expected)) = times
-        .iter()
-        .enumerate()
-        .map(|(k, t)| (k, times[0] + k as f64 * h))
+    if let Some((k, expected)) = (0..times.len())
+        .map(|k| (k, times[0] + k as f64 * h))
         .find(|(k, expected)| (times[*k] - expected).abs() > UNIFORM_TOLERANCE * h)
     {
         return Err(step_break(times).unwrap_or_else(|| MemError::Sample {
