@@ -132,6 +132,7 @@
 mod answer;
 mod assess;
 pub mod catalog;
+mod checks;
 mod crosstalk;
 mod damping;
 pub mod evidence;
@@ -142,6 +143,7 @@ mod mismatch;
 mod named;
 mod options;
 mod quantized;
+mod reference;
 mod report;
 mod residual;
 mod rivals;
@@ -170,14 +172,12 @@ pub use rivals::SAME_FIT;
 pub use residual::{Band, ResidualStructure};
 
 use crate::WorkflowError;
-use answer::last_error;
 use catalog::Trial;
 use evidence::NoiseModel;
 use mem::Measurement;
 use models::{FitOutcome, Model, align};
-use named::{choose, polish, scale_equivalents_of};
-use plant::EffectKind;
-use run::{Fitted, Folds};
+use named::choose;
+use run::Folds;
 
 /// Progress of a diagnosis (argmin's `Observe`): the CLI draws a bar from it.
 pub trait Observe: Sync {
@@ -223,57 +223,18 @@ pub fn diagnose_observed(
             need: "a positive relative tolerance (0.05 for 5 %)",
         });
     }
-    let wrapped = model;
     // A spike or a dropout in one reading is neither physics nor the measurement model's noise.
-    let (raw, glitches) = crate::glitch::set_aside(align(wrapped, raw)?)?;
+    let (raw, glitches) = crate::glitch::set_aside(align(model, raw)?)?;
     let data = match options.decimate {
         Some(r) if r > 1 => raw.decimate(r)?,
         _ => raw.clone(),
     };
     let folds = Folds::new(&data);
-    observer.progress("baseline", 0, 2);
-    let baseline = Fitted::converged(wrapped, &data, &options.free, 100)?;
-    observer.progress("baseline", 1, 2);
-    // The reference every candidate is scored against: the baseline with the model's own
-    // linear parameters free too, so that a mismatch is absorbed before any effect is tried.
-    let mismatch = mismatch::mismatch_parameters(model, &options.free);
-    let from = mismatch::with_mismatch_bounds(baseline.outcome.fitted.clone());
-    let all_free: Vec<String> = options.free.iter().chain(&mismatch).cloned().collect();
-    let trial_reference = Fitted::full(&from, &data, &all_free, 100)?;
-    // The mismatch parameters the data determine stay free; the others keep the model file's
-    // values (a flat direction, or one run to its bound, only misleads every refit after it),
-    // and the reference is refitted with the determined ones from the baseline.
-    let mut mismatch: Vec<String> =
-        mismatch.into_iter().filter(|name| mismatch::determined(&trial_reference.outcome, name)).collect();
-    let mut reference_free: Vec<String> = options.free.iter().chain(&mismatch).cloned().collect();
-    let mut reference = if reference_free.len() == all_free.len() {
-        trial_reference
-    } else {
-        Fitted::full(&from, &data, &reference_free, 100)?
-    };
-    // The secondary ones join one at a time, only where the data determine them and they leave
-    // the others determined (a mass per length freed beside two inertias can make all three
-    // undetermined, and then none would absorb an inertia mismatch).
-    let primary = (Fitted { outcome: reference.outcome.clone() }, reference_free.clone());
-    let mut secondary_joined: Vec<String> = Vec::new();
-    for name in mismatch::secondary_mismatch_parameters(model, &options.free) {
-        let mut free = reference_free.clone();
-        free.push(name.clone());
-        if let Ok(fit) = Fitted::full(&from, &data, &free, 100)
-            && mismatch.iter().chain([&name]).all(|n| mismatch::determined(&fit.outcome, n))
-            && last_error(&fit.outcome) <= last_error(&reference.outcome)
-        {
-            reference = fit;
-            reference_free = free;
-            mismatch.push(name.clone());
-            secondary_joined.push(name);
-        }
-    }
-    observer.progress("baseline", 2, 2);
+    let reference::References { baseline, reference, free: reference_free, mismatch, primary, joined } =
+        reference::fit(model, &data, options, observer)?;
     // The secondary mismatch parameters weighed by the BIC of the whole account: with them and
     // what the evidence chooses against them, or without them (module `secondary`).
-    let primary_mismatch: Vec<String> =
-        mismatch.iter().filter(|n| !secondary_joined.contains(n)).cloned().collect();
+    let primary_mismatch: Vec<String> = mismatch.iter().filter(|n| !joined.contains(n)).cloned().collect();
     let assess = |r: &secondary::Reference| {
         assess::Assess {
             reference: &r.0,
@@ -297,7 +258,7 @@ pub fn diagnose_observed(
     };
     // On a structure only: the slewing rig's mass per length stays as it joined (weighed there
     // too, it moved answers both ways on the slewing studies; docs/diagnose.md).
-    let joined = if model.as_structure().is_some() { secondary_joined.clone() } else { Vec::new() };
+    let joined = if model.as_structure().is_some() { joined } else { Vec::new() };
     let settled = secondary::Settle {
         full: (reference, reference_free),
         primary,
@@ -320,131 +281,24 @@ pub fn diagnose_observed(
     } = assessed;
     let likelihoods = |outcome: &FitOutcome| noise.log_likelihoods(&outcome.first().residual(), None);
     let mismatch_gain = evidence::gain(&reference_likelihoods, &likelihoods(&baseline.outcome));
-    // A named effect is set against the model's own parameters it could stand for: if one of
-    // them, refitted alone, explains the data as well (in sample, to within a nat), a parameter
-    // mismatch is the simpler answer and nothing is named. The other candidates are not named
-    // in its place: they were scored against a reference without that mismatch, which may
-    // explain what they do. A sensor scale's exact equivalents (the parameters that scale its
-    // output alone) are reported as such and not tried. A lattice is a measurement fact, not
-    // set against a mismatch.
-    let mut scale_equivalents = Vec::new();
-    let mut rivals = Vec::new();
-    let mut spring = None;
-    let mut time_law = None;
-    let mut damping = None;
-    let mut static_peak = None;
-    let mut fading = None;
-    let mut saturation_knee = None;
-    let mut scale_choice = None;
-    let chosen = (|| {
-        let mut i = choose(&candidates, options.threshold)?;
-        // Two sensor scales that fit alike: the one that asks less of the model file.
-        if let Some((j, choice)) =
-            rivals::closer_to_file(&candidates, i, model, &mismatch, tolerance, options.threshold)
-        {
-            i = j;
-            scale_choice = Some(choice);
-        }
-        candidates[i].verdict = Verdict::Named;
-        // The named effect must predict what is missing at least as well as any stand-in does.
-        if named::outpredicted_by(&candidates, i, options.threshold).is_some() {
-            candidates[i].verdict = Verdict::Outpredicted;
-            return None;
-        }
-        let Some(trial) = trials.get(i) else { return Some(i) };
-        polish(&mut candidates[i], trial, &reference_free, &data);
-        if let (EffectKind::SensorScale, Some(output), Some(fitted)) =
-            (trial.kind, trial.output, candidates[i].model.as_ref())
-        {
-            let refitted: Vec<String> = reference_free.iter().chain(&trial.freed).cloned().collect();
-            scale_equivalents = scale_equivalents_of(fitted, &data, output, &refitted);
-        }
-        let search = rivals::Rivals {
-            reference: &reference.outcome.fitted,
-            free: &reference_free,
-            exclude: &scale_equivalents,
-            also: crosstalk::screened(&reference.outcome, &noise, trial.output)
-                .into_iter()
-                .chain(lag::screened(&reference.outcome, &noise, data.interval()))
-                .collect(),
-            to_match: candidates[i].evidence.in_sample - options.threshold,
-            file: model,
-            mismatch: &mismatch,
-            effect: rivals::Account::of_scale(&candidates[i], model, &mismatch, tolerance),
-            tolerance,
-        };
-        rivals = search.find(&data, |o| evidence::gain(&likelihoods(o), &reference_likelihoods));
-        if rivals.iter().any(|r| r.unseats(candidates[i].evidence.in_sample)) {
-            candidates[i].verdict = Verdict::MatchedByMismatch;
-            return None;
-        }
-        // A symmetric spring whose data demand an asymmetric part (a one-sided force) or a
-        // stiffness that changes with time (a degradation): physics outside the catalog.
-        let gain = |o: &FitOutcome| evidence::gain(&likelihoods(o), &reference_likelihoods);
-        let test = named::FormTest {
-            reference: &reference.outcome.fitted,
-            free: &reference_free,
-            data: &data,
-            threshold: options.threshold,
-            gain: &gain,
-        };
-        spring = spring::form(&candidates[i], trial, &test);
-        if let Some(form) = &spring {
-            let demanded = [
-                (form.asymmetric.as_ref(), Verdict::Asymmetric),
-                (Some(&form.changing), Verdict::TimeVarying),
-            ]
-            .into_iter()
-            .filter_map(|(term, verdict)| term.filter(|t| t.demanded).map(|t| (t, verdict)))
-            .max_by(|(a, _), (b, _)| a.gain.total_cmp(&b.gain));
-            if let Some((_, verdict)) = demanded {
-                candidates[i].verdict = verdict;
-                return None;
-            }
-        }
-        // A named dry friction: does it stick (a static peak above its sliding level)?
-        static_peak = friction::static_peak(&mut candidates[i], trial, &test);
-        // And, in that form, does a servo that loses stiffness with time explain it (a torque
-        // constant that fades, outside the catalog)?
-        fading = friction::fading(&candidates[i], trial, &test);
-        if fading.as_ref().is_some_and(|t| t.demanded) {
-            candidates[i].verdict = Verdict::TimeVarying;
-            return None;
-        }
-        // A structure force set against a stiffness that changes with time by a law of its own,
-        // at any coordinate: it must explain the record better (module `time_law`).
-        let effect_gain = match &spring {
-            Some(form) => Some(form.gain),
-            None => candidates[i].outcome.as_ref().map(&gain),
-        };
-        time_law = effect_gain.and_then(|g| time_law::rival(trial, &test, g));
-        if time_law.as_ref().is_some_and(|law| law.as_well) {
-            candidates[i].verdict = Verdict::TimeVarying;
-            return None;
-        }
-        // A structure's mode set against the model's damping distributed otherwise: a linear
-        // damper at every coordinate (module `damping`).
-        damping = effect_gain.and_then(|g| damping::rival(trial, &test, g));
-        if damping.as_ref().is_some_and(|d| d.as_well) {
-            candidates[i].verdict = Verdict::DampingDistribution;
-            return None;
-        }
-        // A named saturation: is its limit softer than the catalog's limiter?
-        saturation_knee = saturation::knee(&mut candidates[i], trial, &test);
-        // A named appendage's floor is claimed only where the data tell it from the same mode
-        // at another floor.
-        if let Some(label) = named::floor_untold(&candidates, i, options.threshold) {
-            candidates[i].label = label;
-        }
-        Some(i)
-    })();
-    // The equivalents belong to a named scale only; the rivals to a named effect or to the one
-    // they unseated.
-    if chosen.is_none_or(|i| candidates[i].kind != EffectKind::SensorScale) {
-        scale_equivalents.clear();
-        scale_choice = None;
+    // The named effect, set against every rival account (module `checks`). The other
+    // candidates are not named in its place where it falls: they were scored against a
+    // reference without the rival, which may explain what they do. A lattice is a measurement
+    // fact, not set against a mismatch.
+    let found = checks::Checks {
+        model,
+        options,
+        mismatch: &mismatch,
+        reference: &reference,
+        free: &reference_free,
+        trials: &trials,
+        data: &data,
+        noise: &noise,
+        reference_likelihoods: &reference_likelihoods,
     }
+    .run(&mut candidates);
     // Named first, then by held-out evidence, then in-sample.
+    let chosen = found.chosen;
     let mut indexed: Vec<(usize, Candidate)> = candidates.into_iter().enumerate().collect();
     indexed.sort_by(|(i, a), (j, b)| {
         (Some(*j) == chosen).cmp(&(Some(*i) == chosen)).then_with(|| {
@@ -452,7 +306,6 @@ pub fn diagnose_observed(
             key(b).total_cmp(&key(a)).then(a.evidence.delta_bic.total_cmp(&b.evidence.delta_bic))
         })
     });
-    let chosen = chosen.map(|_| 0);
     let candidates: Vec<Candidate> = indexed.into_iter().map(|(_, c)| c).collect();
     let residual = ResidualStructure::of(&reference.outcome);
     Ok(Diagnosis {
@@ -465,18 +318,18 @@ pub fn diagnose_observed(
         secondary,
         noise,
         candidates,
-        chosen,
+        chosen: chosen.map(|_| 0),
         threshold: options.threshold,
-        scale_equivalents,
-        scale_choice,
+        scale_equivalents: found.scale_equivalents,
+        scale_choice: found.scale_choice,
         force_noise,
-        rivals,
-        spring,
-        time_law,
-        damping,
-        static_peak,
-        fading,
-        saturation_knee,
+        rivals: found.rivals,
+        spring: found.spring,
+        time_law: found.time_law,
+        damping: found.damping,
+        static_peak: found.static_peak,
+        fading: found.fading,
+        saturation_knee: found.saturation_knee,
         glitches,
     })
 }
