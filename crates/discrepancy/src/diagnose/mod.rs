@@ -99,11 +99,13 @@
 //! in time makes: a spring's distortion within each cycle, a damping that changes with the
 //! amplitude.
 //!
-//! A mode named on a structure (ringing in the outputs, or an appendage at a coordinate) must
-//! likewise explain the record better, by the threshold in sample, than a linear damper at every
-//! coordinate refitted at once ([`DampingRival`], module `damping`; where it does not,
-//! [`Verdict::DampingDistribution`]): an appendage beside a modelled mode damps it as a tuned
-//! mass does, and so stands in for damping distributed otherwise than the model's form gives.
+//! A mode named on a structure (ringing in the outputs, or an appendage at a coordinate), and a
+//! drag or a dry friction named there, must likewise explain the record better, by the
+//! threshold in sample, than a linear damper at every coordinate refitted at once
+//! ([`DampingRival`], module `damping`; where it does not, [`Verdict::DampingDistribution`]):
+//! an appendage beside a modelled mode damps it as a tuned mass does, and a drag's exponent
+//! bends the damping with the response's amplitude, so either can stand in for damping
+//! distributed otherwise than the model's form gives.
 //!
 //! A named dry friction on the slewing rig is then refitted with a static peak beside it,
 //! τ = −(F_c + ΔF e^{−(θ̇/v_st)²}) tanh(θ̇/v_s) (Stribeck; Armstrong-Hélouvry, Dupont & Canudas de

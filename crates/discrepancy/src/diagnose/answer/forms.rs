@@ -72,21 +72,21 @@ pub struct TimeLaw {
     pub as_well: bool,
 }
 
-/// The rival to a named mode on a structure (module `damping`): no mode, but a linear damper at
-/// every coordinate without a drag, all refitted at once — the model's damping distributed
-/// otherwise than its form gives. The mode keeps its name only where it explains the record
-/// better than the dampers by the held-out threshold in sample; else it is set aside
-/// ([`Verdict::DampingDistribution`]).
+/// The rival to a named mode, drag or dry friction on a structure (module `damping`): no such
+/// effect, but a linear damper at every coordinate without a drag, all refitted at once — the
+/// model's damping distributed otherwise than its form gives. The effect keeps its name only
+/// where it explains the record better than the dampers by the held-out threshold in sample;
+/// else it is set aside ([`Verdict::DampingDistribution`]).
 #[derive(Clone, Debug, Serialize)]
 pub struct DampingRival {
     /// The dampers c_j refitted from the reference (`drag_<c>`, exponent 1) \[N·s/m\].
     pub dampers: Vec<EffectParameter>,
     /// In-sample gain of the dampers over the reference (nats).
     pub gain: f64,
-    /// In-sample gain of the named mode over the reference (nats).
+    /// In-sample gain of the named effect over the reference (nats).
     pub effect_gain: f64,
-    /// Whether the dampers explain the record as well as the mode: `effect_gain − gain` short of
-    /// the held-out threshold. Then the mode is set aside.
+    /// Whether the dampers explain the record as well as the effect: `effect_gain − gain` short
+    /// of the held-out threshold. Then the effect is set aside.
     pub as_well: bool,
 }
 

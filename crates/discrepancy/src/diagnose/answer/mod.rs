@@ -97,10 +97,10 @@ pub enum Verdict {
     /// is missing is accounted for better than by this effect, and what accounts for it better
     /// only stands in for it — physics outside the catalog, so nothing is named.
     Outpredicted,
-    /// A mode the model lacks that a linear damper at every coordinate, refitted at once,
-    /// explains as well ([`DampingRival`]): the structure's damping is distributed otherwise than
-    /// the model's form gives — a mismatch of its own damping, not a missing mode — so nothing is
-    /// named.
+    /// A mode the model lacks, or a drag or dry friction at a coordinate, that a linear damper
+    /// at every coordinate, refitted at once, explains as well ([`DampingRival`]): the
+    /// structure's damping is distributed otherwise than the model's form gives — a mismatch of
+    /// its own damping, not a missing effect — so nothing is named.
     DampingDistribution,
     /// An effect acting through the dynamics, on a forced record whose recorded force is noisy,
     /// that removes less of the residual than [`super::FORCE_NOISE_SHARE`] of what the force's
@@ -271,9 +271,9 @@ pub struct Diagnosis {
     /// with time by a law of its own ([`TimeLaw`]). `None` otherwise, also where a test before
     /// it set the force aside.
     pub time_law: Option<TimeLaw>,
-    /// The rival of a named mode on a structure, if one was named: a linear damper at every
-    /// coordinate ([`DampingRival`]); where it explains the record as well, the mode was set
-    /// aside as [`Verdict::DampingDistribution`].
+    /// The rival of a named mode, drag or dry friction on a structure, if one was named: a
+    /// linear damper at every coordinate ([`DampingRival`]); where it explains the record as
+    /// well, the effect was set aside as [`Verdict::DampingDistribution`].
     pub damping: Option<DampingRival>,
     /// For a named `coulomb_friction` on the slewing rig: its static peak refitted beside it
     /// ([`StaticPeak`]); `None` otherwise, or when a refit failed.

@@ -241,7 +241,7 @@ impl Diagnosis {
                             }
                             // A structure's mode set aside for its damping distributed otherwise.
                             Verdict::DampingDistribution => match &self.damping {
-                                Some(rival) => rival.sentence(best.evidence.in_sample, self.threshold),
+                                Some(rival) => rival.sentence(best.kind, best.evidence.in_sample, self.threshold),
                                 None => format!("{:?}", best.verdict),
                             },
                             // A structure force set aside for a stiffness that changes with time.
@@ -338,14 +338,20 @@ impl TimeLaw {
 }
 
 impl DampingRival {
-    /// Why the named mode, whose own in-sample gain over the reference was `in_sample`, was set
-    /// aside for these dampers (the threshold it had to beat them by).
-    fn sentence(&self, in_sample: f64, threshold: f64) -> String {
+    /// Why the named effect of this kind (a mode, a drag or a dry friction), whose own in-sample
+    /// gain over the reference was `in_sample`, was set aside for these dampers (the threshold
+    /// it had to beat them by).
+    fn sentence(&self, kind: plant::EffectKind, in_sample: f64, threshold: f64) -> String {
+        let what = match kind {
+            plant::EffectKind::QuadraticDrag => "drag",
+            plant::EffectKind::CoulombFriction => "friction",
+            _ => "mode",
+        };
         format!(
             "predictive on held-out blocks ({in_sample:.1} nats in sample), but a linear damper at every coordinate \
-             ({}), in its place, explains the record as well ({:.1} nats in sample against {:.1}; the named mode must \
+             ({}), in its place, explains the record as well ({:.1} nats in sample against {:.1}; the named {what} must \
              explain {threshold:.0} more) — the structure's damping is distributed otherwise than the model's form \
-             gives (its modes' ratios), a mismatch of the model's own damping, for which the mode only stands in",
+             gives (its modes' ratios), a mismatch of the model's own damping, for which the {what} only stands in",
             self.dampers
                 .iter()
                 .map(|d| with_se(d, format!("`{}` = {:.3e}", d.name, d.value)))
