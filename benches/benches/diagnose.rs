@@ -156,6 +156,25 @@ fn bench_forced(c: &mut Criterion) {
     group.bench_function("diagnose/shear_building_forced_scale_q3_small", |b| {
         b.iter(|| diagnose(black_box(&model), &small, &options).unwrap())
     });
+    // The structure a noise spectrum implies (the force noise's floor, once per output of a
+    // forced diagnosis): a resonance above a white floor on the 512 bins of a 1024-sample segment.
+    let levels: Vec<f64> = (0..512)
+        .map(|b| {
+            let x = (b as f64 - 51.2) / 3.0;
+            1.0 + 20.0 / (1.0 + x * x)
+        })
+        .collect();
+    assert!(discrepancy::diagnose::evidence::structure_of_spectrum(&levels, 0.5, 2001) > 0.0);
+    group.bench_function("evidence/structure_of_spectrum_512", |b| {
+        b.iter(|| discrepancy::diagnose::evidence::structure_of_spectrum(black_box(&levels), 0.5, 2001))
+    });
+    // A record whose force carries 2 % noise: the structure floor, the force-noise screen and
+    // the named drag's rivals (the dampers at every coordinate) all run.
+    let noisy = mem::Measurement::read_csv(&fixture("independent/forced/offset_q3_noisy_force.csv")).unwrap();
+    assert!(!diagnose(&model, &noisy, &options).unwrap().noise.structure_floor.is_empty());
+    group.bench_function("diagnose/shear_building_forced_offset_q3_noisy_force", |b| {
+        b.iter(|| diagnose(black_box(&model), &noisy, &options).unwrap())
+    });
     group.finish();
 }
 
