@@ -194,6 +194,11 @@ fn set_aside_for_the_damping(case: &str, effect: &str) -> discrepancy::Diagnosis
 fn the_force_noise_leaves_a_floor_of_structure_and_an_offset_behind_it_is_estimated() {
     let noisy = run("null_noisy_force");
     assert!(noisy.noise.structure_floor.iter().any(|&f| f > 10.0), "{:?}", noisy.noise.structure_floor);
+    assert!(
+        noisy.answer().iter().any(|s| s.contains("nats of structure in any residual")),
+        "{:?}",
+        noisy.answer()
+    );
     let exact = run("null");
     assert!(exact.noise.structure_floor.iter().all(|&f| f < 10.0), "{:?}", exact.noise.structure_floor);
     let d = run("offset_q3_noisy_force");
