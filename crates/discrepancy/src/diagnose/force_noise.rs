@@ -134,7 +134,8 @@ pub(super) fn structure_floor(best: &FitOutcome, data: &Measurement, noise: &Noi
 fn noise_structure(response: &[f64], floor: f64, rho: f64, n: usize) -> f64 {
     let bins = response.len();
     let g = autocovariance(response, 1);
-    let v = autocovariance(&vec![floor; bins], 0)[0];
+    // γ₀ of the white floor: w₀ + 2(bins − 1) times its level ([`autocovariance`] at lag 0).
+    let v = floor * (2 * bins).saturating_sub(1) as f64;
     if v.is_nan() || v <= 0.0 {
         return structure_of_spectrum(response, rho, n);
     }

@@ -337,9 +337,9 @@ impl Measurement {
 }
 
 /// Where a record that is not uniform breaks its own step: the first step that differs from the
-/// record's usual one (the lower median of its steps) by more than the tolerance, said as a gap
-/// (samples missing) or a short step. `None` where no single step does (a slow drift of the
-/// stamps), which the caller reports against the mean grid.
+/// record's usual one (the lower median of its steps) by more than √[`UNIFORM_TOLERANCE`] of
+/// it (1 %), said as a gap (samples missing) or a short step. `None` where no single step does
+/// (a slow drift of the stamps), which the caller reports against the mean grid.
 fn step_break(times: &[f64]) -> Option<MemError> {
     let steps: Vec<f64> = times.windows(2).map(|w| w[1] - w[0]).collect();
     let mut sorted = steps.clone();
