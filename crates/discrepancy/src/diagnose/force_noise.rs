@@ -26,7 +26,7 @@
 //! kept, and 0.41, lost).
 
 use super::catalog::Trial;
-use super::evidence::{NoiseModel, autocovariance, structure_of_spectrum};
+use super::evidence::{NoiseModel, Predictor, autocovariance, structure_of_spectrum};
 use super::{Candidate, Verdict};
 use crate::frf::{InputNoise, RecordedInputs};
 use faer::Mat;
@@ -103,41 +103,75 @@ fn takes_up_the_response(kind: EffectKind) -> bool {
     !matches!(kind, EffectKind::OutputOffset | EffectKind::SensorDrift | EffectKind::SensorQuantization)
 }
 
-/// Per output, the structure the recorded force's noise leaves in a residual through the
-/// model's response ([`NoiseModel::structure_floor`]): its spectrum read from `best`, the
-/// best-fitting model (the residual closest to the noise itself, as for ρ), then
-/// [`noise_structure`] over that residual's rows. `None` for a record without inputs.
-pub(super) fn structure_floor(best: &FitOutcome, data: &Measurement, noise: &NoiseModel) -> Option<Vec<f64>> {
+/// The noise on `data`'s recorded force as `best`, the best-fitting model, shows it (the
+/// residual closest to the noise itself, as for ρ); `None` for a record without inputs.
+pub(super) fn read(best: &FitOutcome, data: &Measurement) -> Option<InputNoise> {
     let fit = Weighted::of(best);
-    let n = fit.residual.nrows();
-    let read = RecordedInputs::of(data, n)?.noise(&fit.simulated, &fit.residual)?;
-    Some(
-        read.spectra
-            .iter()
-            .zip(&read.floors)
-            .enumerate()
-            .map(|(o, (levels, floor))| {
-                let response: Vec<f64> = levels.iter().map(|l| (l - floor).max(0.0)).collect();
-                noise_structure(&response, *floor, noise.rho.get(o).copied().unwrap_or(0.0), n)
-            })
-            .collect(),
-    )
+    RecordedInputs::of(data, fit.residual.nrows())?.noise(&fit.simulated, &fit.residual)
 }
 
-/// The structure (nats, [`structure_of_spectrum`]) `n` samples of the noise alone hold under
-/// the measurement model's ρ: the force's noise through the model's response (the one-sided
-/// spectrum `response` on Welch bins) beside the sensor's noise, whose level `floor` was read
-/// as white. The sensor's noise is given the AR(1) colour ρ_v that makes the two together
-/// correlated at lag one by ρ, as the residual ρ was read from is — ρ_v = (ρ(γ_v + γ_g,0) −
-/// γ_g,1)/γ_v, held in ±0.99 — so that a sensor coloured of itself is not counted as structure:
-/// without the force's noise the floor is then 0.
-fn noise_structure(response: &[f64], floor: f64, rho: f64, n: usize) -> f64 {
+/// Per output, the structure the recorded force's noise leaves in a residual of `n` rows through
+/// the model's response ([`NoiseModel::structure_floor`]): [`structure_of_spectrum`] of the
+/// noise's spectrum ([`noise_spectrum`]) `read` from the best-fitting model.
+pub(super) fn structure_floor(read: &InputNoise, noise: &NoiseModel, n: usize) -> Vec<f64> {
+    (0..read.spectra.len())
+        .map(|o| noise_spectrum(read, noise, o).map_or(0.0, |total| structure_of_spectrum(&total, rho(noise, o), n)))
+        .collect()
+}
+
+/// The order of the noise's predictor on a forced record ([`NoiseModel::predictors`]): as many
+/// lags as the structure is measured over, enough for a few resonances at the record's rate.
+pub const PREDICTOR_ORDER: usize = 20;
+
+/// Per output, the predictor of the noise the recorded force's noise and the sensor's leave
+/// together ([`NoiseModel::predictors`]): [`Predictor`] of the autocovariance of
+/// [`noise_spectrum`] read from the best-fitting model. `None` for an output whose spectrum holds
+/// none of the force's noise (its noise is then the AR(1) of ρ_o) or is degenerate.
+///
+/// This is the measurement model of errors in variables: the residual holds −G(e), the model's
+/// response to the force's noise, coloured by its resonances. Under AR(1) noise a candidate that
+/// matches part of that response's realisation — a narrow band at a resonance, a handful of
+/// degrees of freedom in a record of seconds, and far above the sensor's floor — gains hundreds
+/// of nats (a drag with its exponent and the refitted damping, 227 nats on the fixture
+/// `offset_q3_noisy_force`, where the model's W = E‖G e‖² differs from the reference's by under
+/// a nat); under the noise's own spectrum the same match is what that noise does by chance.
+pub(super) fn predictors(read: &InputNoise, noise: &NoiseModel) -> Vec<Option<Predictor>> {
+    (0..read.spectra.len())
+        .map(|o| {
+            let total = noise_spectrum(read, noise, o)?;
+            let floor = read.floors.get(o).copied().unwrap_or(0.0);
+            let coloured = read.spectra[o].iter().any(|l| l - floor > 0.0);
+            coloured.then(|| Predictor::of_autocovariance(&autocovariance(&total, PREDICTOR_ORDER))).flatten()
+        })
+        .collect()
+}
+
+fn rho(noise: &NoiseModel, o: usize) -> f64 {
+    noise.rho.get(o).copied().unwrap_or(0.0)
+}
+
+/// Output o's spectrum of the noise alone, on `read`'s Welch bins: the force's noise through the
+/// model's response (`read`'s fitted spectrum less the sensor's level) beside the sensor's noise,
+/// whose level was read as white. The sensor's noise is given the AR(1) colour ρ_v that makes the
+/// two together correlated at lag one by the measurement model's ρ_o, as the residual ρ was read
+/// from is — ρ_v = (ρ(γ_v + γ_g,0) − γ_g,1)/γ_v, held in ±0.99 — so that a sensor coloured of
+/// itself is not counted as the force's noise: without the force's noise the spectrum is the
+/// AR(1) of ρ_o. `None` where `read` has no such output.
+fn noise_spectrum(read: &InputNoise, noise: &NoiseModel, o: usize) -> Option<Vec<f64>> {
+    let (levels, floor) = (read.spectra.get(o)?, *read.floors.get(o)?);
+    let response: Vec<f64> = levels.iter().map(|l| (l - floor).max(0.0)).collect();
+    Some(coloured_floor(&response, floor, rho(noise, o)))
+}
+
+/// The response spectrum `response` with a sensor floor of white level `floor` added, coloured
+/// as [`noise_spectrum`] says; `response` alone for a floor that is not positive.
+fn coloured_floor(response: &[f64], floor: f64, rho: f64) -> Vec<f64> {
     let bins = response.len();
     let g = autocovariance(response, 1);
     // γ₀ of the white floor: w₀ + 2(bins − 1) times its level ([`autocovariance`] at lag 0).
     let v = floor * (2 * bins).saturating_sub(1) as f64;
     if v.is_nan() || v <= 0.0 {
-        return structure_of_spectrum(response, rho, n);
+        return response.to_vec();
     }
     let rho_v = ((rho * (v + g[0]) - g[1]) / v).clamp(-0.99, 0.99);
     let shape: Vec<f64> = (0..bins)
@@ -147,8 +181,15 @@ fn noise_structure(response: &[f64], floor: f64, rho: f64, n: usize) -> f64 {
         })
         .collect();
     let scale = v / autocovariance(&shape, 0)[0];
-    let total: Vec<f64> = shape.iter().zip(response).map(|(s, r)| scale * s + r).collect();
-    structure_of_spectrum(&total, rho, n)
+    shape.iter().zip(response).map(|(s, r)| scale * s + r).collect()
+}
+
+/// The structure (nats, [`structure_of_spectrum`]) `n` samples of the noise alone hold under
+/// the measurement model's ρ: [`coloured_floor`] of the force's noise response and the sensor's
+/// floor. Without the force's noise it is 0.
+#[cfg(test)]
+fn noise_structure(response: &[f64], floor: f64, rho: f64, n: usize) -> f64 {
+    structure_of_spectrum(&coloured_floor(response, floor, rho), rho, n)
 }
 
 #[cfg(test)]

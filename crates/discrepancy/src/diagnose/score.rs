@@ -80,8 +80,23 @@ impl Scoring<'_> {
             .chain(std::iter::once(&reference.outcome))
             .min_by(|a, b| last_error(a).total_cmp(&last_error(b)))
             .expect("the reference is there");
-        let mut noise = NoiseModel::of(&best.first().residual());
-        noise.structure_floor = force_noise::structure_floor(best, data, &noise).unwrap_or_default();
+        let (mut best, mut noise) = (best, measurement_model(best, data));
+        // On a forced record the noise is read again from the model its own likelihood puts
+        // first, if that is another: the best-fitting refit may be one that matched part of the
+        // force's noise, and read from it that noise looks smaller than it is.
+        if !noise.predictors.is_empty() && std::env::var_os("MEMID_NO_REREAD").is_none() {
+            let outcomes: Vec<&FitOutcome> = fits.iter().filter_map(|f| f.as_ref().ok()).map(|f| &f.outcome).collect();
+            let total = |o: &FitOutcome| noise.log_likelihoods(&o.first().residual(), None).iter().sum::<f64>();
+            let first = outcomes
+                .iter()
+                .copied()
+                .chain(std::iter::once(&reference.outcome))
+                .max_by(|a, b| total(a).total_cmp(&total(b)))
+                .expect("the reference is there");
+            if !std::ptr::eq(first, best) {
+                (best, noise) = (first, measurement_model(first, data));
+            }
+        }
         let under = noise.fit_weights(&best.first().residual());
         let likelihoods = |outcome: &FitOutcome| noise.log_likelihoods(&outcome.first().residual(), None);
         let reference_likelihoods = likelihoods(&reference.outcome);
@@ -216,4 +231,18 @@ impl Scoring<'_> {
         }
         Scores { candidates, noise, reference_likelihoods }
     }
+}
+
+/// The measurement model read from one fit's residual: ρ per output, and on a forced record the
+/// predictors of the noise its recorded force's noise leaves ([`force_noise::predictors`]).
+fn measurement_model(best: &FitOutcome, data: &Measurement) -> NoiseModel {
+    let mut noise = NoiseModel::of(&best.first().residual());
+    if let Some(read) = force_noise::read(best, data) {
+        if std::env::var_os("MEMID_NO_EIV").is_none() {
+            noise.predictors = force_noise::predictors(&read, &noise);
+        } else {
+            noise.structure_floor = force_noise::structure_floor(&read, &noise, best.first().residual().nrows());
+        }
+    }
+    noise
 }

@@ -82,7 +82,15 @@ pub struct RecordedInputs {
     suu: Vec<Vec<f64>>,
     largest: Vec<f64>,
     excited: Vec<usize>,
+    ceilings: Vec<f64>,
 }
+
+/// How far above the recorded input's own spectral floor its noise may be read
+/// ([`RecordedInputs::ceilings`]).
+pub const CEILING_MARGIN: f64 = 2.0;
+
+/// The share of a recorded input's spectral bins, its lowest, whose mean is its floor.
+pub const FLOOR_BINS: f64 = 0.25;
 
 impl RecordedInputs {
     /// `data`'s inputs on a grid of `k` rows; `None` without inputs, with fewer than 64 samples,
@@ -104,9 +112,17 @@ impl RecordedInputs {
         let largest: Vec<f64> = suu.iter().map(|s| s.iter().copied().fold(0.0, f64::max)).collect();
         let rms =
             (0..m).map(|i| ((0..k).map(|t| held[(t, i)].powi(2)).sum::<f64>() / k as f64).sqrt()).collect();
-        let mut inputs = Self { names, rms, k, length, segments, suu, largest, excited: Vec::new() };
+        let ceilings = suu.iter().zip(&segments).map(|(s, u)| ceiling(s, u.len(), length)).collect();
+        let mut inputs =
+            Self { names, rms, k, length, segments, suu, largest, excited: Vec::new(), ceilings };
         inputs.excited = (1..bins).filter(|&b| (0..m).any(|i| inputs.excites(i, b))).collect();
         (inputs.excited.len() >= 5).then_some(inputs)
+    }
+
+    /// Per input, the largest variance σ_i² its noise may be read at: [`CEILING_MARGIN`] times
+    /// its own spectral floor ([`ceiling`]).
+    pub fn ceilings(&self) -> &[f64] {
+        &self.ceilings
     }
 
     /// Whether input i excites bin b (its auto-spectrum there at least [`EXCITED`] of its largest).
@@ -148,7 +164,8 @@ impl RecordedInputs {
             let (o, b) = rows[r];
             window * if c < p { f64::from(u8::from(c == o)) } else { gain(o, c - p, b) }
         });
-        let theta = whittle(&design, &level)?;
+        let upper: Vec<f64> = (0..p).map(|_| f64::INFINITY).chain(self.ceilings.iter().copied()).collect();
+        let theta = whittle(&design, &level, &upper)?;
         let beta = &theta[p..];
         let per_output: f64 =
             rows.iter().map(|&(o, b)| (0..m).map(|i| beta[i] * gain(o, i, b)).sum::<f64>()).sum::<f64>()
@@ -224,44 +241,74 @@ fn frequency_response(
     (0..n).map(|i| h[(i, 0)].powi(2) + h[(n + i, 0)].powi(2)).collect()
 }
 
-/// θ ≥ 0 maximising Whittle's likelihood of the levels P_r (mean periodograms, each a scaled
-/// χ² about its expectation (Xθ)_r): least squares weighted by 1/(Xθ)_r², reweighted
-/// [`PASSES`] times, a coefficient that turns negative held at 0 (an active set).
-fn whittle(design: &Mat<f64>, level: &[f64]) -> Option<Vec<f64>> {
+/// A recorded input's noise variance ceiling from its auto-spectrum `suu` (Σ over `segments`
+/// segments of |U_b|², bins 0…L/2 − 1 of a segment of `length`): [`CEILING_MARGIN`] times the
+/// mean of its lowest [`FLOOR_BINS`] bins (DC aside) over segments and window power — the level
+/// white noise of that variance has in every bin.
+///
+/// A transducer's noise is white across the whole band, the force a shaker applies is not: where
+/// the force excites nothing (a chirp's or a low-passed noise's bins above its band) the recorded
+/// force is its noise alone, and the noise read from a residual cannot be larger. A residual the
+/// model's resonances shape — a nonlinear force's left-over, a misfit — looks to the Whittle fit
+/// like the force's noise through the model (12 % read on a 1 %-noise record of a softening
+/// spring, draw 20261304 `A_cubic_strong_s1`); the ceiling holds the read to what the force's
+/// own record shows. A force as broad as the record's band has no such floor, and its ceiling
+/// does not bind.
+fn ceiling(suu: &[f64], segments: usize, length: usize) -> f64 {
+    let mut levels: Vec<f64> = suu.iter().skip(1).copied().filter(|l| l.is_finite()).collect();
+    if levels.is_empty() || segments == 0 {
+        return f64::INFINITY;
+    }
+    levels.sort_by(f64::total_cmp);
+    let lowest = ((levels.len() as f64 * FLOOR_BINS).ceil() as usize).clamp(1, levels.len());
+    let mean = levels[..lowest].iter().sum::<f64>() / lowest as f64;
+    CEILING_MARGIN * mean / (segments as f64 * spectra::window_power(length))
+}
+
+/// θ maximising Whittle's likelihood of the levels P_r (mean periodograms, each a scaled χ²
+/// about its expectation (Xθ)_r), each θ_j in [0, `upper[j]`]: least squares weighted by
+/// 1/(Xθ)_r², reweighted [`PASSES`] times, a coefficient that leaves its bounds held at the bound
+/// it crossed (an active set: the most negative first, then the one furthest above its bound).
+fn whittle(design: &Mat<f64>, level: &[f64], upper: &[f64]) -> Option<Vec<f64>> {
     let (n, q) = (design.nrows(), design.ncols());
+    let bound = |j: usize| upper.get(j).copied().filter(|u| *u >= 0.0).unwrap_or(f64::INFINITY);
     let mut fitted: Vec<f64> = level.to_vec();
     let floor = level.iter().copied().fold(0.0, f64::max) * 1e-12;
     let mut theta = vec![0.0; q];
     for _ in 0..PASSES {
         let weight: Vec<f64> = fitted.iter().map(|f| 1.0 / f.max(floor).max(f64::MIN_POSITIVE)).collect();
-        let mut active: Vec<usize> = (0..q).collect();
+        // Each coefficient free (None) or held at a bound.
+        let mut held: Vec<Option<f64>> = vec![None; q];
         loop {
-            let x = Mat::from_fn(n, active.len(), |r, c| weight[r] * design[(r, active[c])]);
-            let y = Mat::from_fn(n, 1, |r, _| weight[r] * level[r]);
-            let solution = x.qr().solve_lstsq(&y);
-            theta = vec![0.0; q];
-            for (c, &j) in active.iter().enumerate() {
-                theta[j] = solution[(c, 0)];
-            }
-            match active
-                .iter()
-                .copied()
-                .filter(|&j| theta[j] < 0.0)
-                .min_by(|&a, &b| theta[a].total_cmp(&theta[b]))
-            {
-                Some(worst) => {
-                    active.retain(|&j| j != worst);
-                    theta[worst] = 0.0;
-                    if active.is_empty() {
-                        break;
-                    }
+            let free: Vec<usize> = (0..q).filter(|&j| held[j].is_none()).collect();
+            let fixed = |r: usize| (0..q).filter_map(|j| held[j].map(|v| design[(r, j)] * v)).sum::<f64>();
+            theta = (0..q).map(|j| held[j].unwrap_or(0.0)).collect();
+            if !free.is_empty() {
+                let x = Mat::from_fn(n, free.len(), |r, c| weight[r] * design[(r, free[c])]);
+                let y = Mat::from_fn(n, 1, |r, _| weight[r] * (level[r] - fixed(r)));
+                let solution = x.qr().solve_lstsq(&y);
+                for (c, &j) in free.iter().enumerate() {
+                    theta[j] = solution[(c, 0)];
                 }
+            }
+            let below = free.iter().copied().filter(|&j| theta[j] < 0.0).min_by(|&a, &b| theta[a].total_cmp(&theta[b]));
+            let above = || {
+                free.iter()
+                    .copied()
+                    .filter(|&j| theta[j] > bound(j))
+                    .max_by(|&a, &b| (theta[a] / bound(a)).total_cmp(&(theta[b] / bound(b))))
+            };
+            match below.map(|j| (j, 0.0)).or_else(|| above().map(|j| (j, bound(j)))) {
+                Some((j, value)) => held[j] = Some(value),
                 None => break,
             }
         }
         fitted = (0..n).map(|r| (0..q).map(|c| design[(r, c)] * theta[c]).sum()).collect();
     }
-    theta.iter().all(|t| t.is_finite()).then_some(theta.into_iter().map(|t| t.max(0.0)).collect())
+    theta
+        .iter()
+        .all(|t| t.is_finite())
+        .then_some(theta.into_iter().enumerate().map(|(j, t)| t.clamp(0.0, bound(j))).collect())
 }
 
 #[cfg(test)]
