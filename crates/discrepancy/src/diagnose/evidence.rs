@@ -40,13 +40,10 @@ pub fn folds(n_rows: usize, block: usize) -> [Vec<f64>; 2] {
 pub struct NoiseModel {
     /// ρ_o per output, in \[−0.99, 0.99\].
     pub rho: Vec<f64>,
-    /// Per output, the structure (nats, [`structure_per_output`]) that the noise on a forced
-    /// record's recorded force leaves in any model's residual through the model's own response
-    /// ([`structure_of_spectrum`] of the noise's spectrum): a floor no model can remove, taken off
-    /// the structure a refit leaves and the reference's before their shares are compared. Empty
-    /// where there is no recorded input (then 0).
+    /// Per output, the order of its [`Predictor`] where the recorded force's noise colours the
+    /// noise (0 where it is the AR(1) of ρ_o alone); empty where there is no recorded input.
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub structure_floor: Vec<f64>,
+    pub predictor_order: Vec<usize>,
     /// Per output, the noise's predictor where the recorded force's noise colours it (a forced
     /// record; [`Predictor`] of the spectrum that noise and the sensor's leave): the innovations
     /// the likelihood scores are then those of that predictor, not of ρ_o. Empty, or `None` for
@@ -104,11 +101,8 @@ impl Predictor {
     /// order-q prediction error: (e − Σ a_m,i past_i)² v_q / v_m.
     fn innovation(&self, e: f64, past: &[f64]) -> f64 {
         let m = past.len().min(self.order());
-        let predicted: f64 = if m == 0 {
-            0.0
-        } else {
-            self.coefficients[m - 1].iter().zip(past).map(|(a, x)| a * x).sum()
-        };
+        let predicted: f64 =
+            if m == 0 { 0.0 } else { self.coefficients[m - 1].iter().zip(past).map(|(a, x)| a * x).sum() };
         let scale = self.errors[self.order()] / self.errors[m];
         (e - predicted).powi(2) * scale
     }
@@ -130,7 +124,7 @@ impl NoiseModel {
                 if power > 0.0 { (lagged / power).clamp(-0.99, 0.99) } else { 0.0 }
             })
             .collect();
-        Self { rho, structure_floor: Vec::new(), predictors: Vec::new() }
+        Self { rho, predictor_order: Vec::new(), predictors: Vec::new() }
     }
 
     /// Per output, the log-likelihood −(n/2) ln(U/n) of the residual's rows whose weight is
@@ -181,7 +175,12 @@ impl NoiseModel {
 
 /// [`NoiseModel::innovations`] under a [`Predictor`]: each kept row predicted from the kept rows
 /// just before it (up to the predictor's order; a row after a gap starts a new segment).
-fn predicted_innovations(predictor: &Predictor, residual: &Mat<f64>, o: usize, rows: Option<&[f64]>) -> (f64, usize) {
+fn predicted_innovations(
+    predictor: &Predictor,
+    residual: &Mat<f64>,
+    o: usize,
+    rows: Option<&[f64]>,
+) -> (f64, usize) {
     let keep = |k: usize| rows.is_none_or(|w| w[k] > 0.0);
     let q = predictor.order();
     let (mut u, mut n) = (0.0, 0usize);
@@ -269,7 +268,8 @@ pub fn structure_per_output(residual: &Mat<f64>, noise: &NoiseModel) -> Vec<f64>
             let one: f64 = match noise.predictors.get(o) {
                 Some(Some(predictor)) => (0..rows)
                     .map(|r| {
-                        let past: Vec<f64> = (0..predictor.order().min(STRUCTURE_LAGS)).map(|l| x[(r, l)]).collect();
+                        let past: Vec<f64> =
+                            (0..predictor.order().min(STRUCTURE_LAGS)).map(|l| x[(r, l)]).collect();
                         predictor.innovation(y[(r, 0)], &past)
                     })
                     .sum(),
@@ -410,7 +410,8 @@ mod tests {
         let levels = (0..bins)
             .map(|b| {
                 let w = std::f64::consts::PI * b as f64 / bins as f64;
-                let (re, im) = (1.0 - a1 * w.cos() - a2 * (2.0 * w).cos(), a1 * w.sin() + a2 * (2.0 * w).sin());
+                let (re, im) =
+                    (1.0 - a1 * w.cos() - a2 * (2.0 * w).cos(), a1 * w.sin() + a2 * (2.0 * w).sin());
                 1.0 / (re * re + im * im) + floor * floor
             })
             .collect();
@@ -456,7 +457,7 @@ mod tests {
         // An AR(1) autocovariance: its predictor's innovations are the noise model's under ρ.
         let rho = 0.6;
         let ar1 = Predictor::of_autocovariance(&(0..=4).map(|l| rho.powi(l)).collect::<Vec<_>>()).unwrap();
-        let noise = NoiseModel { rho: vec![rho], structure_floor: Vec::new(), predictors: Vec::new() };
+        let noise = NoiseModel { rho: vec![rho], predictor_order: Vec::new(), predictors: Vec::new() };
         let (u1, _) = noise.ar1_innovations(&residual, 0, Some(&weights));
         let (u2, _) = predicted_innovations(&ar1, &residual, 0, Some(&weights));
         assert!((u1 / (1.0 - rho * rho) - u2).abs() < 1e-9 * u2, "{u1} {u2}");

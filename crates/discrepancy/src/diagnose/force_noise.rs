@@ -9,10 +9,11 @@
 //! screened. A sensor's scale or crosstalk acts on the response it reads, the response to the
 //! noise included, and is screened like an effect through the dynamics.
 //!
-//! The noise's response is also a floor of structure ([`structure_floor`]): coloured by the
-//! model's own resonances, it is predictable from its past and so counts as structure in every
-//! residual, the true model's too. The share of the structure a candidate removes is measured
-//! beyond that floor (docs/diagnose.md, "The structure the force's noise leaves").
+//! The noise's response is also part of the measurement model ([`predictors`]): coloured by
+//! the model's own resonances, it is predictable from its past, and a candidate that matches a
+//! part of its realisation gains nothing beyond chance under its own spectrum (docs/diagnose.md,
+//! "The force's noise in the measurement model"). The read is held below twice the recorded
+//! force's own spectral floor ([`crate::frf::RecordedInputs::ceilings`]).
 //!
 //! What the noise accounts for is read from the residual each refit leaves, not the
 //! reference's: a missing effect at the driven floor leaves a residual shaped like the force's
@@ -26,7 +27,7 @@
 //! kept, and 0.41, lost).
 
 use super::catalog::Trial;
-use super::evidence::{NoiseModel, Predictor, autocovariance, structure_of_spectrum};
+use super::evidence::{NoiseModel, Predictor, autocovariance};
 use super::{Candidate, Verdict};
 use crate::frf::{InputNoise, RecordedInputs};
 use faer::Mat;
@@ -110,15 +111,6 @@ pub(super) fn read(best: &FitOutcome, data: &Measurement) -> Option<InputNoise> 
     RecordedInputs::of(data, fit.residual.nrows())?.noise(&fit.simulated, &fit.residual)
 }
 
-/// Per output, the structure the recorded force's noise leaves in a residual of `n` rows through
-/// the model's response ([`NoiseModel::structure_floor`]): [`structure_of_spectrum`] of the
-/// noise's spectrum ([`noise_spectrum`]) `read` from the best-fitting model.
-pub(super) fn structure_floor(read: &InputNoise, noise: &NoiseModel, n: usize) -> Vec<f64> {
-    (0..read.spectra.len())
-        .map(|o| noise_spectrum(read, noise, o).map_or(0.0, |total| structure_of_spectrum(&total, rho(noise, o), n)))
-        .collect()
-}
-
 /// The order of the noise's predictor on a forced record ([`NoiseModel::predictors`]): as many
 /// lags as the structure is measured over, enough for a few resonances at the record's rate.
 pub const PREDICTOR_ORDER: usize = 20;
@@ -189,7 +181,7 @@ fn coloured_floor(response: &[f64], floor: f64, rho: f64) -> Vec<f64> {
 /// floor. Without the force's noise it is 0.
 #[cfg(test)]
 fn noise_structure(response: &[f64], floor: f64, rho: f64, n: usize) -> f64 {
-    structure_of_spectrum(&coloured_floor(response, floor, rho), rho, n)
+    super::evidence::structure_of_spectrum(&coloured_floor(response, floor, rho), rho, n)
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 
 use super::answer::last_error;
 use super::catalog::Trial;
-use super::evidence::{self, NoiseModel};
+use super::evidence::{self, NoiseModel, Predictor};
 use super::force_noise;
 use super::options::MIN_STRUCTURE;
 use super::run::{self, Fitted, Folds};
@@ -84,9 +84,11 @@ impl Scoring<'_> {
         // On a forced record the noise is read again from the model its own likelihood puts
         // first, if that is another: the best-fitting refit may be one that matched part of the
         // force's noise, and read from it that noise looks smaller than it is.
-        if !noise.predictors.is_empty() && std::env::var_os("MEMID_NO_REREAD").is_none() {
-            let outcomes: Vec<&FitOutcome> = fits.iter().filter_map(|f| f.as_ref().ok()).map(|f| &f.outcome).collect();
-            let total = |o: &FitOutcome| noise.log_likelihoods(&o.first().residual(), None).iter().sum::<f64>();
+        if !noise.predictors.is_empty() {
+            let outcomes: Vec<&FitOutcome> =
+                fits.iter().filter_map(|f| f.as_ref().ok()).map(|f| &f.outcome).collect();
+            let total =
+                |o: &FitOutcome| noise.log_likelihoods(&o.first().residual(), None).iter().sum::<f64>();
             let first = outcomes
                 .iter()
                 .copied()
@@ -101,12 +103,8 @@ impl Scoring<'_> {
         let likelihoods = |outcome: &FitOutcome| noise.log_likelihoods(&outcome.first().residual(), None);
         let reference_likelihoods = likelihoods(&reference.outcome);
         let m = (data.n_samples() * data.n_outputs()) as f64;
-        // The structure beyond the floor the force's noise leaves (0 without a recorded input).
-        let beyond = |residual: &Mat<f64>| -> Vec<f64> {
-            let floor = |o: usize| noise.structure_floor.get(o).copied().unwrap_or(0.0);
-            let per_output = evidence::structure_per_output(residual, &noise);
-            per_output.iter().enumerate().map(|(o, s)| (s - floor(o)).max(0.0)).collect()
-        };
+        // The structure beyond the measurement model's own prediction.
+        let beyond = |residual: &Mat<f64>| evidence::structure_per_output(residual, &noise);
         let reference_per_output = beyond(&reference.outcome.first().residual());
         let reference_structure: f64 = reference_per_output.iter().sum();
         let share = |left: f64, held: f64| if held > MIN_STRUCTURE { 1.0 - left / held } else { 1.0 };
@@ -238,11 +236,9 @@ impl Scoring<'_> {
 fn measurement_model(best: &FitOutcome, data: &Measurement) -> NoiseModel {
     let mut noise = NoiseModel::of(&best.first().residual());
     if let Some(read) = force_noise::read(best, data) {
-        if std::env::var_os("MEMID_NO_EIV").is_none() {
-            noise.predictors = force_noise::predictors(&read, &noise);
-        } else {
-            noise.structure_floor = force_noise::structure_floor(&read, &noise, best.first().residual().nrows());
-        }
+        noise.predictors = force_noise::predictors(&read, &noise);
+        noise.predictor_order =
+            noise.predictors.iter().map(|p| p.as_ref().map_or(0, Predictor::order)).collect();
     }
     noise
 }

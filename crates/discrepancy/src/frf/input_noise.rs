@@ -291,7 +291,11 @@ fn whittle(design: &Mat<f64>, level: &[f64], upper: &[f64]) -> Option<Vec<f64>> 
                     theta[j] = solution[(c, 0)];
                 }
             }
-            let below = free.iter().copied().filter(|&j| theta[j] < 0.0).min_by(|&a, &b| theta[a].total_cmp(&theta[b]));
+            let below = free
+                .iter()
+                .copied()
+                .filter(|&j| theta[j] < 0.0)
+                .min_by(|&a, &b| theta[a].total_cmp(&theta[b]));
             let above = || {
                 free.iter()
                     .copied()

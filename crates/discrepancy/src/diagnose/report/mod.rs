@@ -102,20 +102,17 @@ impl Diagnosis {
             .iter()
             .map(|i| format!("`{}` about {:.3e} ({:.2} % of its RMS)", i.input, i.rms, 100.0 * i.share))
             .collect();
-        // The structure its response leaves, taken off before shares are compared.
-        let floor = self.noise.structure_floor.iter().copied().fold(0.0, f64::max);
-        let floor = if floor > 0.0 {
-            format!(
-                "; its response through the model leaves up to {floor:.0} nats of structure in any residual, taken \
-                 off before the share a candidate removes is compared"
-            )
+        // Its response through the model, part of the measurement model.
+        let coloured = if self.noise.predictor_order.iter().any(|&q| q > 0) {
+            "; its response through the model is part of the noise every candidate is scored under (the \
+             spectrum it and the sensor's noise leave, predicted to order 20), so matching it earns nothing"
         } else {
-            String::new()
+            ""
         };
         Some(format!(
             "noise on the recorded input{}: {}; it accounts for {:.0} % of the best-fitting residual, and an \
              effect acting through the dynamics, or a sensor's scale or crosstalk, must remove at least {:.0} % \
-             of what it accounts for in the residual its refit leaves{floor}",
+             of what it accounts for in the residual its refit leaves{coloured}",
             if levels.len() == 1 { "" } else { "s" },
             levels.join(", "),
             100.0 * noise.share,
