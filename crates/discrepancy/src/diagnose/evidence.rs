@@ -266,13 +266,16 @@ pub fn structure_per_output(residual: &Mat<f64>, noise: &NoiseModel) -> Vec<f64>
             let many: f64 = (0..rows).map(|r| (y[(r, 0)] - fit[(r, 0)]).powi(2)).sum();
             // The measurement model's own prediction: its predictor's where it has one.
             let one: f64 = match noise.predictors.get(o) {
-                Some(Some(predictor)) => (0..rows)
-                    .map(|r| {
-                        let past: Vec<f64> =
-                            (0..predictor.order().min(STRUCTURE_LAGS)).map(|l| x[(r, l)]).collect();
-                        predictor.innovation(y[(r, 0)], &past)
-                    })
-                    .sum(),
+                Some(Some(predictor)) => {
+                    let mut past = Vec::with_capacity(STRUCTURE_LAGS);
+                    (0..rows)
+                        .map(|r| {
+                            past.clear();
+                            past.extend((0..predictor.order().min(STRUCTURE_LAGS)).map(|l| x[(r, l)]));
+                            predictor.innovation(y[(r, 0)], &past)
+                        })
+                        .sum()
+                }
                 _ => (0..rows).map(|r| (y[(r, 0)] - rho * x[(r, 0)]).powi(2)).sum(),
             };
             if !(one > 0.0 && many > 0.0 && one.is_finite() && many.is_finite()) {
@@ -383,12 +386,7 @@ mod tests {
         let mut scored = Vec::new();
         let mut rhos = Vec::new();
         for seed in 0..12 {
-            let (w, v) = (white(n, 1.0, 100 + seed), white(n, floor, 200 + seed));
-            let mut x = vec![0.0; n];
-            for k in 2..n {
-                x[k] = a1 * x[k - 1] + a2 * x[k - 2] + w[k];
-            }
-            let residual = Mat::from_fn(n, 1, |k, _| x[k] + v[k]);
+            let residual = resonant_noise((a1, a2), n, floor, (100 + seed, 200 + seed));
             let noise = NoiseModel::of(&residual);
             rhos.push(noise.rho[0]);
             scored.push(structure_per_output(&residual, &noise)[0]);
@@ -416,6 +414,17 @@ mod tests {
             })
             .collect();
         ((a1, a2), levels)
+    }
+
+    /// `n` samples of the AR(2) `(a1, a2)` driven by unit white noise, with white noise of
+    /// standard deviation `floor` beside it, from the two seeds.
+    fn resonant_noise((a1, a2): (f64, f64), n: usize, floor: f64, (driven, beside): (u64, u64)) -> Mat<f64> {
+        let (w, v) = (white(n, 1.0, driven), white(n, floor, beside));
+        let mut x = vec![0.0; n];
+        for k in 2..n {
+            x[k] = a1 * x[k - 1] + a2 * x[k - 2] + w[k];
+        }
+        Mat::from_fn(n, 1, |k, _| x[k] + v[k])
     }
 
     /// Levinson–Durbin's predictors against the Gaussian likelihood computed directly: an AR(2)
@@ -474,12 +483,7 @@ mod tests {
         let predictor = Predictor::of_autocovariance(&autocovariance(&levels, 20)).expect("a spectrum");
         let omega = 2.0 * std::f64::consts::PI * 0.05;
         for seed in 0..8 {
-            let (w, v) = (white(n, 1.0, 300 + seed), white(n, floor, 400 + seed));
-            let mut x = vec![0.0; n];
-            for k in 2..n {
-                x[k] = a1 * x[k - 1] + a2 * x[k - 2] + w[k];
-            }
-            let residual = Mat::from_fn(n, 1, |k, _| x[k] + v[k]);
+            let residual = resonant_noise((a1, a2), n, floor, (300 + seed, 400 + seed));
             let design = Mat::from_fn(n, 8, |k, c| {
                 let window = f64::from(u8::from(k * 4 / n == c / 2));
                 let phase = omega * k as f64;
