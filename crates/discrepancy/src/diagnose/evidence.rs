@@ -458,7 +458,7 @@ mod tests {
         let rows: Vec<usize> = (0..n).collect();
         assert!((all.0 - v * quadratic(&rows)).abs() < 1e-9 * all.0, "{} {}", all.0, v * quadratic(&rows));
         // Two segments (rows 0–9 and 25–39), each scored as a series of its own.
-        let weights: Vec<f64> = (0..n).map(|k| if k < 10 || k >= 25 { 1.0 } else { 0.0 }).collect();
+        let weights: Vec<f64> = (0..n).map(|k| if (10..25).contains(&k) { 0.0 } else { 1.0 }).collect();
         let split = predicted_innovations(&p, &residual, 0, Some(&weights));
         let (first, second): (Vec<usize>, Vec<usize>) = ((0..10).collect(), (25..40).collect());
         let direct = v * (quadratic(&first) + quadratic(&second));
