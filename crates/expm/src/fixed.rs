@@ -284,7 +284,7 @@ mod tests {
 
     /// The whole Padé/Fréchet algorithm gives the same e^A and L(A, E) in both storages, for
     /// norms that select every degree and a few squarings. The faer path is itself checked
-    /// against 60-digit references (tests/reference); here the two differ only in the order
+    /// against 60-digit references (tests/integration/reference); here the two differ only in the order
     /// of roundings, so they agree to a small multiple of u·‖e^A‖·(s + 1).
     #[test]
     fn fixed_and_faer_storage_give_the_same_frechet_derivative() {

@@ -135,7 +135,7 @@ fn fit_by(
 /// stiffness must not cost hours. For the slewing rig, twice the default (1/640 s): the
 /// integrator is second order, and at that substep the catalog's effects stay within 10⁻⁵ of
 /// the adaptive solver's outputs (a dead band's motor rate within 6·10⁻⁴ of its peak, a few
-/// hundredths of the sensor noise) — `models/tests/exponential.rs` holds both substeps — for
+/// hundredths of the sensor noise) — `models/tests/integration/exponential.rs` holds both substeps — for
 /// half the cost of every candidate's fit.
 pub(super) fn max_step(model: &Model) -> f64 {
     let default = models::exponential::DEFAULT_MAX_STEP;

@@ -1,5 +1,5 @@
 //! Accuracy on nilpotent, strictly triangular and Jordan matrices against the exact references
-//! of `tests/reference/make_structured.py`.
+//! of `tests/integration/reference/make_structured.py`.
 //!
 //! Why these matrices: for nilpotent A the norms of the powers Aᵖ vanish from p = n on, so a
 //! Padé degree/scaling choice that looks only at them sees a tiny problem, while the Fréchet
@@ -25,13 +25,14 @@
 //! estimate's looseness. Unlike `reference.rs` there is no "no worse than SciPy" clause here:
 //! the bound alone is the acceptance criterion for these cases.
 
-use faer::Mat;
 use serde::Deserialize;
 
 const U: f64 = 1.110_223_024_625_156_5e-16;
 
 /// The families the script generates; each but `issue` (4×4 by definition) must include n = 16.
 const FAMILIES: [&str; 4] = ["nilpotent_super", "strict_triangular", "jordan", "issue"];
+
+use crate::reference::{mat, rel_err};
 
 #[derive(Deserialize)]
 struct Case {
@@ -52,14 +53,6 @@ struct Case {
 #[derive(Deserialize)]
 struct File {
     cases: Vec<Case>,
-}
-
-fn mat(rows: &[Vec<f64>]) -> Mat<f64> {
-    Mat::from_fn(rows.len(), rows[0].len(), |i, j| rows[i][j])
-}
-
-fn rel_err(x: &Mat<f64>, reference: &Mat<f64>) -> f64 {
-    (x - reference).norm_l2() / reference.norm_l2()
 }
 
 fn cases() -> Vec<Case> {

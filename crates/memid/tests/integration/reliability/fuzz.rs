@@ -228,7 +228,7 @@ fn fuzz_short() {
 }
 
 #[test]
-#[ignore = "the long fuzz run (1,000 cases, several minutes): cargo test -p memid --test reliability -- --ignored"]
+#[ignore = "the long fuzz run (1,000 cases, several minutes): cargo test -p memid --test integration -- --ignored reliability::"]
 fn fuzz_long() {
     fuzz(1000, 11);
 }

@@ -4,7 +4,7 @@ use structure::StructureModel;
 
 #[test]
 fn the_documented_model_file_is_valid() {
-    let lib = include_str!("../src/lib.rs");
+    let lib = include_str!("../../src/lib.rs");
     let start = lib.find("//! ```ron\n").expect("a ron example") + "//! ```ron\n".len();
     let end = start + lib[start..].find("//! ```\n").expect("its end");
     let text: String = lib[start..end]

@@ -1,4 +1,4 @@
-//! Accuracy against the independent 60-digit references of `tests/reference/make_reference.py`.
+//! Accuracy against the independent 60-digit references of `tests/integration/reference/make_reference.py`.
 //!
 //! Tolerance: the relative Frobenius error of e^A and of L(A, E) must be at most 20·u·κ, with
 //! u = 2⁻⁵³ and κ the relative condition number the script computed (SciPy's `expm_cond`; for L
@@ -35,11 +35,13 @@ struct File {
     cases: Vec<Case>,
 }
 
-fn mat(rows: &[Vec<f64>]) -> Mat<f64> {
+/// A matrix from the reference file's rows (shared with `structured`).
+pub(crate) fn mat(rows: &[Vec<f64>]) -> Mat<f64> {
     Mat::from_fn(rows.len(), rows[0].len(), |i, j| rows[i][j])
 }
 
-fn rel_err(x: &Mat<f64>, reference: &Mat<f64>) -> f64 {
+/// ‖x − reference‖₂ / ‖reference‖₂.
+pub(crate) fn rel_err(x: &Mat<f64>, reference: &Mat<f64>) -> f64 {
     (x - reference).norm_l2() / reference.norm_l2()
 }
 

@@ -2,10 +2,8 @@
 //! differences of `state_space::<f64>`, for the fixtures, for a file that uses modal damping,
 //! derived names, combinations and parameter-valued initial states, and for a first-order file.
 
-mod common;
-
+use crate::common::{check_derivatives, fixture};
 use approx::assert_relative_eq;
-use common::{check_derivatives, fixture};
 use mem::nalgebra::DMatrix;
 use num_dual::Dual64;
 use structure::StructureModel;

@@ -2,10 +2,8 @@
 //! hand-written building of `test-problems`), their modes (against the independent values of
 //! `fixtures/independent/README.md`), and `to_ron` round trips.
 
-mod common;
-
+use crate::common::{fixture, fixture_text};
 use approx::assert_relative_eq;
-use common::{fixture, fixture_text};
 use mem::StateSpaceModel;
 use mem::nalgebra::DMatrix;
 use structure::{StructureModel, is_structure_file};

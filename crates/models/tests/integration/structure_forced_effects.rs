@@ -11,7 +11,7 @@ use mem::{Grid, Hold, Inputs, Measurement, ResponseModel};
 use models::{Model, StructureExponential};
 use structure::StructureModel;
 
-const FILE: &str = include_str!("../../../fixtures/shear_building_forced.ron");
+const FILE: &str = include_str!("../../../../fixtures/shear_building_forced.ron");
 const FREE: [&str; 5] = ["k1", "k2", "k3", "alpha", "beta"];
 /// The simulator's truth: k1..k3, α, β (`fixtures/independent/README.md`).
 const TRUTH: [f64; 5] = [2.62e6, 2.16e6, 1.96e6, 0.42, 1.18e-3];
@@ -99,7 +99,7 @@ fn a_forced_hardening_building_is_the_independent_simulators() {
     )
     .unwrap();
     let clean = Measurement::from_csv(
-        include_str!("../../../fixtures/independent/clean/shear_forced_cubic_q1.csv"),
+        include_str!("../../../../fixtures/independent/clean/shear_forced_cubic_q1.csv"),
         "shear_forced_cubic_q1.csv",
     )
     .unwrap();
@@ -136,7 +136,7 @@ fn a_hardening_spring_is_fitted_from_a_forced_record() {
         Model::from_ron(&with_effects("CubicStiffness(coordinate: \"q1\", coefficient: 5e11)"), "b.ron")
             .unwrap();
     let noisy = Measurement::from_csv(
-        include_str!("../../../fixtures/independent/effects/shear_forced_cubic_q1.csv"),
+        include_str!("../../../../fixtures/independent/effects/shear_forced_cubic_q1.csv"),
         "shear_forced_cubic_q1.csv",
     )
     .unwrap();

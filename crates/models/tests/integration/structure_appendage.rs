@@ -5,14 +5,12 @@
 //! and by accelerations, with a drag beside it on the nonlinear path; its sensitivities against
 //! central differences; and its file errors.
 
-mod common;
-
-use common::{assert_central_differences, respond, with_effects_in as with_effects};
+use crate::common::{assert_central_differences, respond, with_effects_in as with_effects};
 use expm::Response;
 use models::Model;
 
-const FILE: &str = include_str!("../../../fixtures/shear_building.ron");
-const ACCELERATIONS: &str = include_str!("../../../fixtures/shear_building_acc2.ron");
+const FILE: &str = include_str!("../../../../fixtures/shear_building.ron");
+const ACCELERATIONS: &str = include_str!("../../../../fixtures/shear_building_acc2.ron");
 
 /// The nominal building's values (fixtures/shear_building.ron).
 const M: f64 = 1000.0;

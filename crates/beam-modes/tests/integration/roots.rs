@@ -1,4 +1,4 @@
-//! Roots against the 40-digit references of `tests/reference/make_roots.py` and the limits.
+//! Roots against the 40-digit references of `tests/integration/reference/make_roots.py` and the limits.
 
 use beam_modes::{Beam, characteristic, clamped_free_root, modes, pinned_free_root};
 use serde::Deserialize;

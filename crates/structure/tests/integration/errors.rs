@@ -1,9 +1,7 @@
 //! Located errors: each is one line, `origin:line:column: …`, pointing at the offending
 //! character (inside a string literal for expressions and names).
 
-mod common;
-
-use common::{fixture, fixture_text, position};
+use crate::common::{fixture, fixture_text, position};
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
 use structure::{ExprError, StructureError, StructureModel};

@@ -3,13 +3,13 @@
 //! coloured-noise case is reported (the AR(1) covariance is chosen, coverage at least 90 %).
 //! Long (about a minute in release): `cargo test --release -p models -- --ignored`.
 
-#[path = "../examples/coverage.rs"]
-mod coverage;
+#[path = "../../examples/coverage.rs"]
+mod example;
 
 #[test]
 #[ignore = "a 7,000-fit statistical study; run with --ignored"]
 fn coverage_meets_the_nominal_rate() {
-    for row in coverage::study(1000) {
+    for row in example::study(1000) {
         println!("{row:?}");
         if row.white {
             assert!(
