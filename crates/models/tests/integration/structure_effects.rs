@@ -3,7 +3,7 @@
 //! hand, their sensitivities against central differences, the unmodeled mode against its closed
 //! form, the sensor terms against their definition, and the file's errors and round trip.
 
-use crate::common::{assert_central_differences, respond};
+use crate::common::{assert_central_differences, respond, with_effects_in};
 use expm::Response;
 use mem::Grid;
 use models::Model;
@@ -12,7 +12,7 @@ const FILE: &str = include_str!("../../../../fixtures/shear_building.ron");
 
 /// The fixture with `effects` added to its file.
 fn with_effects(effects: &str) -> Model {
-    crate::common::with_effects_in(FILE, effects)
+    with_effects_in(FILE, effects)
 }
 
 /// The nominal building, by hand: M = 1000 I, K from k1..k3, D = αM + βK.
