@@ -7,7 +7,7 @@
 //! rows); local parameters are scattered into the problem's columns.
 
 use crate::vector::sum_squares;
-use crate::{Grid, Measurement, MemError, Problem, ResponseModel, interval_residual};
+use crate::{Grid, Measurement, MemError, NoisePredictor, Problem, ResponseModel, interval_residual};
 use expm::Response;
 use faer::Mat;
 
@@ -77,27 +77,20 @@ fn scale_rows(values: &mut [f64], weights: &[f64]) {
     blocks.into_remainder().iter_mut().zip(pattern).for_each(|(v, w)| *v *= w);
 }
 
-/// Whitens interleaved rows (k, o) — entry k·p + o — by each output's AR(1) coefficient ρ_o:
-/// row k becomes v_k − ρ_o v_{k−1}, and a row that starts a segment (row 0, or one whose
-/// predecessor has sample weight 0) (1 − ρ_o²)^½ v_k (see
-/// [`Experiment::with_noise_correlation`](crate::Experiment::with_noise_correlation)). Rows are
-/// taken last to first so each still sees its predecessor unchanged.
-fn whiten_rows(values: &mut [f64], rho: &[f64], sample_weights: Option<&[f64]>) {
-    let p = rho.len();
+/// Whitens interleaved rows (k, o) — entry k·p + o — output by output by its noise predictor
+/// ([`NoisePredictor::whiten`]; AR(1): row k becomes v_k − ρ_o v_{k−1}, a row that starts a
+/// segment (1 − ρ_o²)^½ v_k). Row 0 starts a segment, and so does a row whose predecessor has
+/// sample weight 0 (see
+/// [`Experiment::with_noise_predictors`](crate::Experiment::with_noise_predictors)).
+fn whiten_rows(values: &mut [f64], predictors: &[NoisePredictor], sample_weights: Option<&[f64]>) {
+    let p = predictors.len();
     if p == 0 {
         return;
     }
     let k = values.len() / p;
     let starts = |row: usize| row == 0 || sample_weights.is_some_and(|w| w[row - 1] == 0.0);
-    for row in (0..k).rev() {
-        let (before, here) = values.split_at_mut(row * p);
-        let here = &mut here[..p];
-        if starts(row) {
-            here.iter_mut().zip(rho).for_each(|(v, r)| *v *= (1.0 - r * r).sqrt());
-        } else {
-            let previous = &before[(row - 1) * p..];
-            here.iter_mut().zip(previous).zip(rho).for_each(|((v, u), r)| *v -= r * u);
-        }
+    for (o, predictor) in predictors.iter().enumerate() {
+        predictor.whiten(values, o, p, k, starts);
     }
 }
 
@@ -234,9 +227,10 @@ pub(crate) fn evaluate_for(problem: &Problem<'_>, p: &[f64], wanted: Wanted) -> 
                 Some(scales)
             }
         };
+        let whitening = e.whitening();
         let scale = |values: &mut [f64]| {
-            if let Some(rho) = &e.noise_correlation {
-                whiten_rows(values, rho, e.sample_weights.as_deref());
+            if let Some(predictors) = &whitening {
+                whiten_rows(values, predictors, e.sample_weights.as_deref());
             }
             scale_rows(values, &e.weights);
             if let Some(scales) = &row_scales {

@@ -1,7 +1,8 @@
 //! One experiment: a model, the record it must reproduce, output weights, quantized readings,
 //! and which of the shared parameters it sees.
 
-use crate::{Measurement, MemError, ResponseModel};
+use crate::{Measurement, MemError, NoisePredictor, ResponseModel};
+use std::borrow::Cow;
 
 /// One experiment: a model and the measurement it must reproduce, with output weights.
 pub struct Experiment<'a> {
@@ -27,6 +28,11 @@ pub struct Experiment<'a> {
     /// error is the Gaussian AR(1) log-likelihood's sum of squares at these ρ_o and weights
     /// 1/s_o; see [`Experiment::with_noise_correlation`].
     pub noise_correlation: Option<Vec<f64>>,
+    /// The noise of each output as a stationary process of known spectrum ([`NoisePredictor`];
+    /// None: white, or the AR(1) of `noise_correlation`). Each output's residuals and
+    /// sensitivities are whitened to its scaled innovations before the weights; see
+    /// [`Experiment::with_noise_predictors`]. At most one of the two is set.
+    pub noise_predictors: Option<Vec<NoisePredictor>>,
 }
 
 impl<'a> Experiment<'a> {
@@ -40,6 +46,7 @@ impl<'a> Experiment<'a> {
             parameters: None,
             sample_weights: None,
             noise_correlation: None,
+            noise_predictors: None,
         }
     }
 
@@ -74,6 +81,32 @@ impl<'a> Experiment<'a> {
     pub fn with_noise_correlation(mut self, rho: Vec<f64>) -> Self {
         self.noise_correlation = Some(rho);
         self
+    }
+
+    /// Fits under stationary Gaussian noise of a known spectrum per output, given as its linear
+    /// predictors ([`NoisePredictor`], one per output): each output's residuals and
+    /// sensitivities become the scaled innovations (e_k − Σ_i a_m,i e_{k−i})·(v_q/v_m)^½, m the
+    /// samples before k in its segment up to q, so the error is the exact Gaussian quadratic form
+    /// of that noise (its Toeplitz covariance's Cholesky factor) — generalised least squares.
+    /// With weights 1/s_o (the innovations' standard deviation) it is −2 × the log-likelihood up
+    /// to a constant. A sample left out (weight 0) ends a segment, as with
+    /// [`Experiment::with_noise_correlation`], which is the case q = 1.
+    pub fn with_noise_predictors(mut self, predictors: Vec<NoisePredictor>) -> Self {
+        self.noise_predictors = Some(predictors);
+        self
+    }
+
+    /// The predictors the residuals are whitened by: the given ones, or AR(1)'s of
+    /// `noise_correlation`; None for white noise. Validated ([`Experiment::validate`]) before
+    /// any evaluation.
+    pub(crate) fn whitening(&self) -> Option<Cow<'_, [NoisePredictor]>> {
+        match (&self.noise_predictors, &self.noise_correlation) {
+            (Some(p), _) => Some(Cow::Borrowed(p)),
+            (None, Some(rho)) => Some(Cow::Owned(
+                rho.iter().map(|r| NoisePredictor::ar1(*r).expect("validated: |ρ| < 1")).collect(),
+            )),
+            (None, None) => None,
+        }
     }
 
     /// The model's parameters are `indices` of the problem's parameter vector.
@@ -158,6 +191,20 @@ impl<'a> Experiment<'a> {
                 "experiment {index}: need one finite noise correlation ρ with |ρ| < 1 per output ({})",
                 self.data.n_outputs()
             )));
+        }
+        if let Some(p) = &self.noise_predictors {
+            if p.len() != self.data.n_outputs() {
+                return Err(MemError::Shape(format!(
+                    "experiment {index}: need one noise predictor per output ({}), got {}",
+                    self.data.n_outputs(),
+                    p.len()
+                )));
+            }
+            if self.noise_correlation.is_some() {
+                return Err(MemError::Shape(format!(
+                    "experiment {index}: give the noise either as AR(1) coefficients or as predictors, not both"
+                )));
+            }
         }
         if self.data.start() < 0.0 {
             return Err(MemError::InvalidData(format!(

@@ -45,6 +45,9 @@
 //!   u_k = e_k − ρ_o e_{k−1} (u₀ = (1 − ρ_o²)^½ e₀, and likewise after a left-out sample) before
 //!   the weights; with weights 1/s_o (the innovations' standard deviation) Eq. 22 becomes −2 × the
 //!   Gaussian AR(1) log-likelihood up to a constant — generalised least squares (Aitken 1935).
+//!   Noise of any known spectrum ([`Experiment::with_noise_predictors`]) is whitened alike by
+//!   its linear predictors of orders 1…q (Levinson–Durbin, [`NoisePredictor`]): the innovations
+//!   algorithm, the exact Gaussian quadratic form of an AR(q) series.
 //! * **Decimation without bias** ([`Measurement::decimate`]): the model's outputs and
 //!   sensitivities go through the very filter the data went through (a root-raised-cosine,
 //!   which keeps decimated white noise white), simulated at the raw rate.
@@ -107,6 +110,7 @@ mod experiment;
 mod fit;
 mod generic;
 mod model;
+mod noise;
 mod problem;
 mod report;
 mod solve;
@@ -129,6 +133,7 @@ pub use model::{
 };
 pub use nalgebra;
 pub use num_dual;
+pub use noise::NoisePredictor;
 pub use problem::{Parameter, Problem};
 pub use report::{
     Combination, DerivativeCheck as DerivativeCheckReport, FitReport, Identifiability, Interval,

@@ -43,6 +43,10 @@ pub struct FitRequest {
     /// residuals and sensitivities are whitened before the weights
     /// ([`mem::Experiment::with_noise_correlation`]); None: white noise.
     pub noise_correlation: Option<Vec<f64>>,
+    /// The noise of each output as a stationary process of known spectrum, the same for every
+    /// experiment ([`mem::Experiment::with_noise_predictors`]); it replaces `noise_correlation`
+    /// (setting both is an error). None: as `noise_correlation` says.
+    pub noise_predictors: Option<Vec<mem::NoisePredictor>>,
 }
 
 impl FitRequest {
@@ -62,6 +66,7 @@ impl FitRequest {
             cost_tolerance: None,
             output_weights: None,
             noise_correlation: None,
+            noise_predictors: None,
         }
     }
 }
@@ -240,6 +245,9 @@ pub fn fit_experiments(
         }
         if let Some(rho) = &request.noise_correlation {
             experiment = experiment.with_noise_correlation(rho.clone());
+        }
+        if let Some(predictors) = &request.noise_predictors {
+            experiment = experiment.with_noise_predictors(predictors.clone());
         }
         experiments.push(experiment);
     }

@@ -5,7 +5,7 @@
 //! out not to be earned beside the chosen effect (module `secondary`).
 
 use super::catalog::{self, Trial};
-use super::evidence::NoiseModel;
+use super::evidence::{LikelihoodFit, NoiseModel};
 use super::quantized::quantization_candidates;
 use super::run::{Fitted, Folds};
 use super::{Candidate, DiagnoseOptions, Observe, force_noise, score};
@@ -47,6 +47,9 @@ pub(super) struct Assessment {
     pub reference_likelihoods: Vec<f64>,
     /// On a forced record, the noise on its recorded inputs.
     pub force_noise: Option<InputNoise>,
+    /// The fit by the likelihood the candidates were scored under, where the noise is coloured
+    /// beyond AR(1) (the form tests' refits).
+    pub coloured: Option<LikelihoodFit>,
 }
 
 impl Assess<'_> {
@@ -67,7 +70,7 @@ impl Assess<'_> {
         if residuals < 20 * parameters {
             return Err(WorkflowError::TooShort { residuals, parameters, needed: 20 * parameters });
         }
-        let score::Scores { mut candidates, noise, reference_likelihoods } =
+        let score::Scores { mut candidates, noise, reference_likelihoods, coloured } =
             score::Scoring { start: &start, reference, free, data, folds, options, observer }.score(&trials);
         // On a forced record, an effect acting through the dynamics must remove more than the
         // recorded force's noise could let it take up.
@@ -76,6 +79,6 @@ impl Assess<'_> {
         if wanted(EffectKind::SensorQuantization) {
             candidates.extend(quantization_candidates(&start, raw, data, reference, free)?);
         }
-        Ok(Assessment { localisation, trials, candidates, noise, reference_likelihoods, force_noise })
+        Ok(Assessment { localisation, trials, candidates, noise, reference_likelihoods, force_noise, coloured })
     }
 }

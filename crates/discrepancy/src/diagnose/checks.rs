@@ -4,7 +4,7 @@
 //! saturation's knee and an appendage's floor. Each test that the effect fails names nothing.
 
 use super::catalog::Trial;
-use super::evidence::{self, NoiseModel};
+use super::evidence::{self, LikelihoodFit, NoiseModel};
 use super::named::{self, choose, polish, scale_equivalents_of};
 use super::run::Fitted;
 use super::{
@@ -36,6 +36,9 @@ pub(super) struct Checks<'a> {
     pub noise: &'a NoiseModel,
     /// The reference's log-likelihood per output under `noise`.
     pub reference_likelihoods: &'a [f64],
+    /// The fit by that likelihood where the noise is coloured beyond AR(1)
+    /// ([`NoiseModel::coloured_fit`]).
+    pub coloured: Option<&'a LikelihoodFit>,
 }
 
 /// What the checks found, each where it was made.
@@ -78,7 +81,7 @@ impl Checks<'_> {
     }
 
     fn chosen(&self, candidates: &mut [Candidate], found: &mut Found) -> Option<usize> {
-        let Checks { model, options, mismatch, reference, free, trials, data, noise, reference_likelihoods } =
+        let Checks { model, options, mismatch, reference, free, trials, data, noise, reference_likelihoods, coloured } =
             *self;
         let tolerance = options.file_tolerance;
         let likelihoods = |outcome: &FitOutcome| noise.log_likelihoods(&outcome.first().residual(), None);
@@ -137,6 +140,7 @@ impl Checks<'_> {
             data,
             threshold: options.threshold,
             gain: &gain,
+            under: coloured,
         };
         found.spring = spring::form(&candidates[i], trial, &test);
         if let Some(form) = &found.spring {

@@ -52,61 +52,10 @@ pub struct NoiseModel {
     pub predictors: Vec<Option<Predictor>>,
 }
 
-/// The best linear predictors of a stationary series from its last 1, 2, …, q values, from its
-/// autocovariance γ₀…γ_q by the Levinson–Durbin recursion (Brockwell & Davis, *Time Series:
-/// Theory and Methods*, 2nd ed., 1991, §5.2): the coefficients a_m,1…a_m,m of each order m and
-/// the prediction errors' variances v₀ = γ₀, v₁, …, v_q. Predicting each sample from as many of
-/// its predecessors as it has, up to q, and dividing each error by √v_m is the Cholesky
-/// factorisation of the series' Toeplitz covariance (the innovations algorithm): the exact
-/// Gaussian likelihood of an AR(q) series, of any segment of it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Predictor {
-    coefficients: Vec<Vec<f64>>,
-    errors: Vec<f64>,
-}
-
-impl Predictor {
-    /// From γ₀…γ_q; `None` for a degenerate autocovariance (γ₀ ≤ 0, a non-finite value, or a
-    /// prediction error that vanishes).
-    pub fn of_autocovariance(gamma: &[f64]) -> Option<Self> {
-        let first = *gamma.first()?;
-        if !(first > 0.0 && gamma.iter().all(|g| g.is_finite())) {
-            return None;
-        }
-        let q = gamma.len() - 1;
-        let (mut a, mut error) = (Vec::<f64>::new(), first);
-        let (mut coefficients, mut errors) = (Vec::with_capacity(q), vec![first]);
-        for m in 1..=q {
-            let k = (gamma[m] - (1..m).map(|j| a[j - 1] * gamma[m - j]).sum::<f64>()) / error;
-            let mut next: Vec<f64> = (1..m).map(|j| a[j - 1] - k * a[m - j - 1]).collect();
-            next.push(k);
-            a = next;
-            error *= 1.0 - k * k;
-            if error.is_nan() || error <= 0.0 {
-                return None;
-            }
-            coefficients.push(a.clone());
-            errors.push(error);
-        }
-        Some(Self { coefficients, errors })
-    }
-
-    /// The predictor's largest order q.
-    pub fn order(&self) -> usize {
-        self.coefficients.len()
-    }
-
-    /// The squared innovation of `e` (the current value) predicted from `past` (its
-    /// predecessors, the nearest first; as many as there are, at most q used), in units of the
-    /// order-q prediction error: (e − Σ a_m,i past_i)² v_q / v_m.
-    fn innovation(&self, e: f64, past: &[f64]) -> f64 {
-        let m = past.len().min(self.order());
-        let predicted: f64 =
-            if m == 0 { 0.0 } else { self.coefficients[m - 1].iter().zip(past).map(|(a, x)| a * x).sum() };
-        let scale = self.errors[self.order()] / self.errors[m];
-        (e - predicted).powi(2) * scale
-    }
-}
+/// The noise's linear predictors where it is coloured beyond AR(1) (mem's
+/// [`NoisePredictor`]: Levinson–Durbin on the autocovariance, the exact Gaussian likelihood of
+/// any segment).
+pub use mem::NoisePredictor as Predictor;
 
 impl NoiseModel {
     /// ρ_o from a residual (K × p).
@@ -191,7 +140,7 @@ fn predicted_innovations(
             continue;
         }
         let e = residual[(k, o)];
-        u += predictor.innovation(e, &past);
+        u += predictor.squared_innovation(e, &past);
         n += 1;
         past.insert(0, e);
         past.truncate(q);
@@ -201,31 +150,61 @@ fn predicted_innovations(
 
 /// The measurement model as a fit's weights: a refit that minimises
 /// Σ_o Σ_k ((e_k − ρ_o e_{k−1})/s_o)² maximises the Gaussian AR(1) likelihood the evidence
-/// scores, at the noise model's ρ_o and innovation scales s_o (generalised least squares).
+/// scores, at the noise model's ρ_o and innovation scales s_o (generalised least squares); with
+/// `predictors`, the innovations are those of each output's predictor instead
+/// ([`NoiseModel::coloured_fit`]).
 #[derive(Clone, Debug)]
 pub struct LikelihoodFit {
     /// ρ_o per output.
     pub rho: Vec<f64>,
     /// 1/s_o per output.
     pub weights: Vec<f64>,
+    /// Per output, the predictor the fit whitens by (its own, or AR(1) of ρ_o where it has
+    /// none); None: AR(1) of `rho` for every output.
+    pub predictors: Option<Vec<Predictor>>,
 }
 
 impl NoiseModel {
-    /// The fit weights of this model with innovation scales s_o from `residual` (the
-    /// best-fitting model's): s_o² = U_o/n, floored at 10⁻¹² of the output's RMS so a perfect
-    /// fit still weighs its output.
+    /// The fit weights of this model under AR(1) of ρ_o alone, with innovation scales s_o from
+    /// `residual` (the best-fitting model's): s_o² = U_o/n, floored at 10⁻¹² of the output's
+    /// RMS so a perfect fit still weighs its output.
     pub fn fit_weights(&self, residual: &Mat<f64>) -> LikelihoodFit {
+        // The refit whitens by ρ_o (`LikelihoodFit`), so its scales are ρ_o's too.
+        let weights = self.weights_by(residual, |o| self.ar1_innovations(residual, o, None));
+        LikelihoodFit { rho: self.rho.clone(), weights, predictors: None }
+    }
+
+    /// The fit that maximises the very likelihood the evidence scores where some output's noise
+    /// has a [`Predictor`] (a forced record whose force is recorded with noise): each output
+    /// whitened by its predictor (AR(1) of ρ_o where it has none), its scale s_o² = U_o/n from
+    /// `residual` under the same. `None` where no output has a predictor ([`Self::fit_weights`]
+    /// is then that likelihood's fit).
+    pub fn coloured_fit(&self, residual: &Mat<f64>) -> Option<LikelihoodFit> {
+        if !self.predictors.iter().any(Option::is_some) {
+            return None;
+        }
+        let predictors = (0..residual.ncols())
+            .map(|o| match self.predictors.get(o) {
+                Some(Some(p)) => Some(p.clone()),
+                _ => Predictor::ar1(self.rho[o]),
+            })
+            .collect::<Option<Vec<Predictor>>>()?;
+        let weights = self.weights_by(residual, |o| self.innovations(residual, o, None));
+        Some(LikelihoodFit { rho: self.rho.clone(), weights, predictors: Some(predictors) })
+    }
+
+    /// 1/s_o per output, s_o² = U_o/n from `innovations(o)` = (U_o, n), floored as
+    /// [`Self::fit_weights`] says.
+    fn weights_by(&self, residual: &Mat<f64>, innovations: impl Fn(usize) -> (f64, usize)) -> Vec<f64> {
         let n = residual.nrows().max(1) as f64;
-        let weights = (0..residual.ncols())
+        (0..residual.ncols())
             .map(|o| {
-                // The refit whitens by ρ_o (`LikelihoodFit`), so its scales are ρ_o's too.
-                let (u, _) = self.ar1_innovations(residual, o, None);
+                let (u, _) = innovations(o);
                 let power = residual.col(o).squared_norm_l2();
                 let s2 = (u / n).max(1e-24 * power / n);
                 if s2 > 0.0 { 1.0 / s2.sqrt() } else { 1.0 }
             })
-            .collect();
-        LikelihoodFit { rho: self.rho.clone(), weights }
+            .collect()
     }
 }
 
@@ -280,7 +259,7 @@ pub fn structure_per_output(residual: &Mat<f64>, noise: &NoiseModel) -> Vec<f64>
                         .map(|r| {
                             past.clear();
                             past.extend((0..predictor.order().min(STRUCTURE_LAGS)).map(|l| x[(r, l)]));
-                            predictor.innovation(y[(r, 0)], &past)
+                            predictor.squared_innovation(y[(r, 0)], &past)
                         })
                         .sum();
                     predicted.min(ar1)
@@ -335,7 +314,7 @@ fn predictability(levels: &[f64], rho: f64, n: usize) -> Option<f64> {
     }
     let one = gamma[0] * (1.0 + rho * rho) - 2.0 * rho * gamma[1];
     let best = Predictor::of_autocovariance(&gamma)?;
-    let error = best.errors[best.order()];
+    let error = best.error_variance(best.order());
     (one > 0.0).then(|| 0.5 * (n - STRUCTURE_LAGS) as f64 * (one / error).ln())
 }
 
@@ -472,8 +451,8 @@ mod tests {
         }
         let p = Predictor::of_autocovariance(&gamma[..=6]).expect("a valid autocovariance");
         assert_eq!(p.order(), 6);
-        assert!((p.coefficients[1][0] - a1).abs() < 1e-12 && (p.coefficients[1][1] - a2).abs() < 1e-12);
-        assert!(p.coefficients[5][2..].iter().all(|c| c.abs() < 1e-12), "{:?}", p.coefficients[5]);
+        assert!((p.coefficients(2)[0] - a1).abs() < 1e-12 && (p.coefficients(2)[1] - a2).abs() < 1e-12);
+        assert!(p.coefficients(6)[2..].iter().all(|c| c.abs() < 1e-12), "{:?}", p.coefficients(6));
         let x = white(n, 1.0, 3);
         let quadratic = |rows: &[usize]| {
             let g = Mat::from_fn(rows.len(), rows.len(), |i, j| gamma[rows[i].abs_diff(rows[j])]);
@@ -483,7 +462,7 @@ mod tests {
             (0..rows.len()).map(|i| b[(i, 0)] * solved[(i, 0)]).sum::<f64>()
         };
         let residual = Mat::from_fn(n, 1, |k, _| x[k]);
-        let v = p.errors[p.order()];
+        let v = p.error_variance(p.order());
         let all = predicted_innovations(&p, &residual, 0, None);
         assert_eq!(all.1, n);
         let rows: Vec<usize> = (0..n).collect();
@@ -618,5 +597,35 @@ mod tests {
         // A zero residual still gets a finite weight.
         let zero = Mat::<f64>::zeros(50, 1);
         assert!(NoiseModel::of(&zero).fit_weights(&zero).weights[0].is_finite());
+    }
+
+    /// The coloured fit whitens each output as the evidence scores it: by its predictor where it
+    /// has one (its scale s_o² = U_o/n under that predictor), by AR(1) of ρ_o where it has none;
+    /// and there is none where no output has a predictor.
+    #[test]
+    fn the_coloured_fit_is_the_likelihood_the_evidence_scores() {
+        let n = 2000;
+        let ((a1, a2), _) = resonance(256, 0.5);
+        let coloured = resonant_noise((a1, a2), n, 0.5, (11, 12));
+        let plain = white(n, 2.0, 13);
+        let residual = Mat::from_fn(n, 2, |k, o| if o == 0 { coloured[(k, 0)] } else { plain[k] });
+        let mut noise = NoiseModel::of(&residual);
+        assert!(noise.coloured_fit(&residual).is_none());
+        let gamma = autocovariance(&resonance(256, 0.5).1, 20);
+        let predictor = Predictor::of_autocovariance(&gamma).expect("a spectrum");
+        noise.predictors = vec![Some(predictor.clone()), None];
+        let fit = noise.coloured_fit(&residual).expect("a predictor");
+        let predictors = fit.predictors.as_ref().expect("whitened by predictors");
+        assert_eq!(predictors[0], predictor);
+        assert_eq!(predictors[1], Predictor::ar1(noise.rho[1]).unwrap());
+        for o in 0..2 {
+            let (u, _) = noise.innovations(&residual, o, None);
+            let s = (u / n as f64).sqrt();
+            assert!((fit.weights[o] * s - 1.0).abs() < 1e-12, "output {o}: {} against 1/{s}", fit.weights[o]);
+        }
+        // The resonant output's scale is its predictor's, not AR(1)'s.
+        let ar1 = noise.fit_weights(&residual);
+        assert!((fit.weights[0] / ar1.weights[0] - 1.0).abs() > 0.05, "{} {}", fit.weights[0], ar1.weights[0]);
+        assert_eq!(fit.weights[1], ar1.weights[1]);
     }
 }

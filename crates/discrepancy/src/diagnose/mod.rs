@@ -280,6 +280,7 @@ pub fn diagnose_observed(
         noise,
         reference_likelihoods,
         force_noise,
+        coloured,
     } = assessed;
     let likelihoods = |outcome: &FitOutcome| noise.log_likelihoods(&outcome.first().residual(), None);
     let mismatch_gain = evidence::gain(&reference_likelihoods, &likelihoods(&baseline.outcome));
@@ -297,6 +298,7 @@ pub fn diagnose_observed(
         data: &data,
         noise: &noise,
         reference_likelihoods: &reference_likelihoods,
+        coloured: coloured.as_ref(),
     }
     .run(&mut candidates);
     // Named first, then by held-out evidence, then in-sample.

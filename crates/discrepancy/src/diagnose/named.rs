@@ -6,6 +6,7 @@
 
 use super::answer::last_error;
 use super::catalog::Trial;
+use super::evidence::LikelihoodFit;
 use super::{Candidate, Verdict, run};
 use mem::Measurement;
 use models::FitOutcome;
@@ -98,6 +99,11 @@ pub(super) struct FormTest<'a> {
     pub threshold: f64,
     /// In-sample log-likelihood gain of a refit over the reference (nats).
     pub gain: &'a (dyn Fn(&FitOutcome) -> f64 + Sync),
+    /// The likelihood's own fit where the noise is coloured beyond AR(1) (a forced record whose
+    /// force is recorded with noise): the refits of a term judged by its standard error
+    /// ([`super::spring::WALD_Z`]) are made by it, so that the error is the likelihood's. None:
+    /// the RMS-weighted fit.
+    pub under: Option<&'a LikelihoodFit>,
 }
 
 impl FormTest<'_> {

@@ -101,6 +101,19 @@ pub(super) fn refit_to(
     fit_by(model, data, free, sample_weights, iterations, precision, None)
 }
 
+/// [`refit_to`] on the whole record, by the likelihood `under` where given (generalised least
+/// squares; a form test's refits on a record whose noise is coloured beyond AR(1)).
+pub(super) fn refit_under(
+    model: &Model,
+    data: &Measurement,
+    free: &[String],
+    under: Option<&LikelihoodFit>,
+    iterations: usize,
+    precision: Precision,
+) -> Result<FitOutcome, WorkflowError> {
+    fit_by(model, data, free, None, iterations, precision, under)
+}
+
 /// The one refit every path makes: the RMS-weighted error, or the likelihood `under` (the held-out
 /// refits, [`held_out`]).
 fn fit_by(
@@ -123,7 +136,10 @@ fn fit_by(
     }
     if let Some(under) = under {
         request.output_weights = Some(under.weights.clone());
-        request.noise_correlation = Some(under.rho.clone());
+        match &under.predictors {
+            Some(predictors) => request.noise_predictors = Some(predictors.clone()),
+            None => request.noise_correlation = Some(under.rho.clone()),
+        }
     }
     Ok(models::fit(model, data, &request)?)
 }

@@ -4,7 +4,7 @@
 
 use super::answer::last_error;
 use super::catalog::Trial;
-use super::evidence::{self, NoiseModel, Predictor};
+use super::evidence::{self, LikelihoodFit, NoiseModel, Predictor};
 use super::force_noise;
 use super::options::MIN_STRUCTURE;
 use super::run::{self, Fitted, Folds};
@@ -46,6 +46,9 @@ pub(super) struct Scores {
     pub noise: NoiseModel,
     /// The reference's log-likelihood per output under `noise`.
     pub reference_likelihoods: Vec<f64>,
+    /// The fit that maximises that likelihood where the noise is coloured beyond AR(1)
+    /// ([`NoiseModel::coloured_fit`]): the form tests' refits.
+    pub coloured: Option<LikelihoodFit>,
 }
 
 impl Scoring<'_> {
@@ -100,6 +103,7 @@ impl Scoring<'_> {
             }
         }
         let under = noise.fit_weights(&best.first().residual());
+        let coloured = noise.coloured_fit(&best.first().residual());
         let likelihoods = |outcome: &FitOutcome| noise.log_likelihoods(&outcome.first().residual(), None);
         let reference_likelihoods = likelihoods(&reference.outcome);
         let m = (data.n_samples() * data.n_outputs()) as f64;
@@ -227,7 +231,7 @@ impl Scoring<'_> {
                 };
             }
         }
-        Scores { candidates, noise, reference_likelihoods }
+        Scores { candidates, noise, reference_likelihoods, coloured }
     }
 }
 

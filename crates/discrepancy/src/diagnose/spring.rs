@@ -181,10 +181,10 @@ fn terms<const N: usize>(
     quintic: &String,
     tested: [&String; N],
 ) -> Option<([SpringTerm; N], f64)> {
-    let FormTest { free, data, threshold, gain, .. } = *test;
+    let FormTest { free, data, threshold, gain, under, .. } = *test;
     // Each refit starts where the one before it ends; the terms from the same optimum.
     let refit = |model: &Model, free: &[String]| {
-        run::refit_to(model, data, free, None, 60, run::Precision::Optimum).ok()
+        run::refit_under(model, data, free, under, 60, run::Precision::Optimum).ok()
     };
     let with = |names: &[String], more: &String| names.iter().chain([more]).cloned().collect::<Vec<String>>();
     let cubic: Vec<String> = free.iter().chain(&trial.freed).cloned().collect();

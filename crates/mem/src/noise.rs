@@ -1,0 +1,201 @@
+//! Stationary Gaussian noise of a known spectrum, as the linear predictors of its autocovariance.
+//!
+//! A zero-mean stationary series with autocovariance γ₀…γ_q is predicted from its last
+//! 1, 2, …, q values by the Levinson–Durbin recursion (Brockwell & Davis, *Time Series: Theory
+//! and Methods*, 2nd ed., 1991, §5.2): order m has coefficients a_m,1…a_m,m and prediction error
+//! variance v_m (v₀ = γ₀). Predicting each sample from as many predecessors as it has, up to q,
+//! and dividing each error by √v_m is the Cholesky factorisation of the series' Toeplitz
+//! covariance (the innovations algorithm), so the sum of the squared scaled errors is the exact
+//! Gaussian quadratic form of an AR(q) series — of any segment of it. AR(1) noise of lag-one
+//! coefficient ρ is the case q = 1, γ = (1, ρ).
+//!
+//! [`NoisePredictor::whiten`] maps a series to its innovations in units of the order-q error,
+//! (e_k − Σ_i a_m,i e_{k−i})·(v_q/v_m)^½, which a fit under that noise minimises
+//! ([`Experiment::with_noise_predictors`](crate::Experiment::with_noise_predictors)).
+
+/// The linear predictors of a stationary series of orders 1…q, from its autocovariance.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NoisePredictor {
+    /// a_m,1…a_m,m for m = 1…q.
+    coefficients: Vec<Vec<f64>>,
+    /// v₀…v_q.
+    errors: Vec<f64>,
+}
+
+impl NoisePredictor {
+    /// From γ₀…γ_q (q ≥ 0); `None` for a degenerate autocovariance (γ₀ ≤ 0, a non-finite value,
+    /// or a prediction error that vanishes: not positive definite).
+    pub fn of_autocovariance(gamma: &[f64]) -> Option<Self> {
+        let first = *gamma.first()?;
+        if !(first > 0.0 && gamma.iter().all(|g| g.is_finite())) {
+            return None;
+        }
+        let q = gamma.len() - 1;
+        let (mut a, mut error) = (Vec::<f64>::new(), first);
+        let (mut coefficients, mut errors) = (Vec::with_capacity(q), vec![first]);
+        for m in 1..=q {
+            let k = (gamma[m] - (1..m).map(|j| a[j - 1] * gamma[m - j]).sum::<f64>()) / error;
+            let mut next: Vec<f64> = (1..m).map(|j| a[j - 1] - k * a[m - j - 1]).collect();
+            next.push(k);
+            a = next;
+            error *= 1.0 - k * k;
+            if error.is_nan() || error <= 0.0 {
+                return None;
+            }
+            coefficients.push(a.clone());
+            errors.push(error);
+        }
+        Some(Self { coefficients, errors })
+    }
+
+    /// AR(1) noise e_k = ρ e_{k−1} + u_k of unit variance; `None` unless |ρ| < 1.
+    pub fn ar1(rho: f64) -> Option<Self> {
+        (rho.is_finite() && rho.abs() < 1.0).then(|| Self::of_autocovariance(&[1.0, rho])).flatten()
+    }
+
+    /// The largest order q.
+    pub fn order(&self) -> usize {
+        self.coefficients.len()
+    }
+
+    /// The prediction error variance v_m of order m ≤ q (v₀ = γ₀).
+    pub fn error_variance(&self, m: usize) -> f64 {
+        self.errors[m.min(self.order())]
+    }
+
+    /// The coefficients a_m,1…a_m,m of order m (1 ≤ m ≤ q; empty for m = 0).
+    pub fn coefficients(&self, m: usize) -> &[f64] {
+        match m.min(self.order()) {
+            0 => &[],
+            m => &self.coefficients[m - 1],
+        }
+    }
+
+    /// The scaled innovation of `e` predicted from `past` (its predecessors, the nearest first;
+    /// as many as there are, at most q used): (e − Σ_i a_m,i past_i)·(v_q/v_m)^½.
+    pub fn scaled_innovation(&self, e: f64, past: &[f64]) -> f64 {
+        let m = past.len().min(self.order());
+        let predicted: f64 = self.coefficients(m).iter().zip(past).map(|(a, x)| a * x).sum();
+        (e - predicted) * self.scale(m)
+    }
+
+    /// The squared scaled innovation, (e − Σ_i a_m,i past_i)²·v_q/v_m (as
+    /// [`NoisePredictor::scaled_innovation`], squared without the square root).
+    pub fn squared_innovation(&self, e: f64, past: &[f64]) -> f64 {
+        let m = past.len().min(self.order());
+        let predicted: f64 = self.coefficients(m).iter().zip(past).map(|(a, x)| a * x).sum();
+        (e - predicted).powi(2) * (self.errors[self.order()] / self.errors[m])
+    }
+
+    /// (v_q/v_m)^½.
+    fn scale(&self, m: usize) -> f64 {
+        let (q, m) = (self.order(), m.min(self.order()));
+        if q == m { 1.0 } else { (self.errors[q] / self.errors[m]).sqrt() }
+    }
+
+    /// Whitens `values`, a series of `len` samples read at `offset + k·stride` (several series
+    /// interleaved), to its scaled innovations in place: sample k is predicted from the samples
+    /// since the last that starts a segment (`starts(k)`; sample 0 always does), at most q of
+    /// them. Samples are taken last to first, so each still sees its predecessors unchanged.
+    pub fn whiten(
+        &self,
+        values: &mut [f64],
+        offset: usize,
+        stride: usize,
+        len: usize,
+        starts: impl Fn(usize) -> bool,
+    ) {
+        let q = self.order();
+        // How many predecessors each sample has in its segment, up to q.
+        let mut depth = vec![0usize; len];
+        for k in 1..len {
+            depth[k] = if starts(k) { 0 } else { (depth[k - 1] + 1).min(q) };
+        }
+        for k in (0..len).rev() {
+            let m = depth[k];
+            let at = |j: usize| offset + j * stride;
+            let predicted: f64 = self.coefficients(m).iter().enumerate().map(|(i, a)| a * values[at(k - 1 - i)]).sum();
+            let v = &mut values[at(k)];
+            *v = (*v - predicted) * self.scale(m);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::NoisePredictor;
+
+    #[test]
+    fn an_ar1_predictor_whitens_as_the_ar1_formulas_say() {
+        let rho = 0.7;
+        let p = NoisePredictor::ar1(rho).expect("|ρ| < 1");
+        let e = [1.0, -0.5, 0.25, 2.0, 0.0];
+        let mut w = e;
+        // Sample 3 starts a segment (its predecessor left out).
+        p.whiten(&mut w, 0, 1, e.len(), |k| k == 3);
+        let expected = [(1.0 - rho * rho).sqrt() * e[0], e[1] - rho * e[0], e[2] - rho * e[1], (1.0 - rho * rho).sqrt() * e[3], e[4] - rho * e[3]];
+        for (a, b) in w.iter().zip(expected) {
+            assert!((a - b).abs() < 1e-15, "{w:?} against {expected:?}");
+        }
+        assert!(NoisePredictor::ar1(1.0).is_none() && NoisePredictor::ar1(f64::NAN).is_none());
+    }
+
+    #[test]
+    fn interleaved_series_are_whitened_apart() {
+        let p = NoisePredictor::of_autocovariance(&[2.0, 1.2, 0.3]).expect("positive definite");
+        let a = [0.3, -1.0, 0.8, 0.1, -0.4];
+        let b = [1.5, 0.2, -0.7, 0.9, 0.0];
+        let mut both: Vec<f64> = a.iter().zip(&b).flat_map(|(x, y)| [*x, *y]).collect();
+        let (mut wa, mut wb) = (a, b);
+        p.whiten(&mut wa, 0, 1, 5, |_| false);
+        p.whiten(&mut wb, 0, 1, 5, |_| false);
+        p.whiten(&mut both, 0, 2, 5, |_| false);
+        p.whiten(&mut both, 1, 2, 5, |_| false);
+        for k in 0..5 {
+            assert_eq!(both[2 * k], wa[k]);
+            assert_eq!(both[2 * k + 1], wb[k]);
+        }
+    }
+
+    /// The whitened series is (v_q)^½ L⁻¹e for Σ = LLᵀ the Toeplitz covariance of the AR(2)
+    /// process e_k = 0.5e_{k−1} − 0.3e_{k−2} + u_k, its autocovariance from the Yule–Walker
+    /// equations in closed form and extended by the recursion (a dense Cholesky by faer).
+    #[test]
+    fn whitening_is_the_inverse_cholesky_factor_of_the_toeplitz_covariance() {
+        let (a1, a2, n) = (0.5_f64, -0.3_f64, 9usize);
+        // ρ₁ = a₁/(1 − a₂), ρ_l = a₁ρ_{l−1} + a₂ρ_{l−2}; γ₀ = 1/(1 − a₁ρ₁ − a₂ρ₂) for unit u.
+        let mut rho = vec![1.0, a1 / (1.0 - a2)];
+        for l in 2..n {
+            rho.push(a1 * rho[l - 1] + a2 * rho[l - 2]);
+        }
+        let g0 = 1.0 / (1.0 - a1 * rho[1] - a2 * rho[2]);
+        let gamma: Vec<f64> = rho.iter().map(|r| g0 * r).collect();
+        let p = NoisePredictor::of_autocovariance(&gamma[..=2]).expect("an AR(2) autocovariance");
+        assert!((p.coefficients(2)[0] - a1).abs() < 1e-12 && (p.coefficients(2)[1] - a2).abs() < 1e-12);
+        assert!((p.error_variance(2) - 1.0).abs() < 1e-12);
+        let sigma = faer::Mat::<f64>::from_fn(n, n, |i, j| gamma[i.abs_diff(j)]);
+        let e = faer::Mat::<f64>::from_fn(n, 1, |k, _| ((k * 7 + 3) % 5) as f64 - 2.0 + 0.1 * k as f64);
+        let l = sigma.llt(faer::Side::Lower).expect("positive definite").L().to_owned();
+        // L⁻¹e by forward substitution, times (v_q)^½.
+        let mut expected = vec![0.0; n];
+        for k in 0..n {
+            let known: f64 = (0..k).map(|j| l[(k, j)] * expected[j]).sum();
+            expected[k] = (e[(k, 0)] - known) / l[(k, k)];
+        }
+        expected.iter_mut().for_each(|x| *x *= p.error_variance(2).sqrt());
+        let mut w: Vec<f64> = (0..n).map(|k| e[(k, 0)]).collect();
+        p.whiten(&mut w, 0, 1, n, |_| false);
+        for k in 0..n {
+            assert!((w[k] - expected[k]).abs() < 1e-12, "sample {k}: {} against {}", w[k], expected[k]);
+        }
+    }
+
+    #[test]
+    fn a_degenerate_autocovariance_has_no_predictor() {
+        assert!(NoisePredictor::of_autocovariance(&[]).is_none());
+        assert!(NoisePredictor::of_autocovariance(&[0.0, 0.0]).is_none());
+        assert!(NoisePredictor::of_autocovariance(&[1.0, 1.0]).is_none());
+        assert!(NoisePredictor::of_autocovariance(&[1.0, f64::INFINITY]).is_none());
+        assert_eq!(NoisePredictor::of_autocovariance(&[4.0]).map(|p| p.order()), Some(0));
+    }
+}
