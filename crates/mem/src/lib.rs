@@ -132,8 +132,8 @@ pub use model::{
     interval_residual,
 };
 pub use nalgebra;
-pub use num_dual;
 pub use noise::NoisePredictor;
+pub use num_dual;
 pub use problem::{Parameter, Problem};
 pub use report::{
     Combination, DerivativeCheck as DerivativeCheckReport, FitReport, Identifiability, Interval,

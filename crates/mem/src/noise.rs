@@ -114,7 +114,8 @@ impl NoisePredictor {
         for k in (0..len).rev() {
             let m = depth[k];
             let at = |j: usize| offset + j * stride;
-            let predicted: f64 = self.coefficients(m).iter().enumerate().map(|(i, a)| a * values[at(k - 1 - i)]).sum();
+            let predicted: f64 =
+                self.coefficients(m).iter().enumerate().map(|(i, a)| a * values[at(k - 1 - i)]).sum();
             let v = &mut values[at(k)];
             *v = (*v - predicted) * self.scale(m);
         }
@@ -133,7 +134,13 @@ mod tests {
         let mut w = e;
         // Sample 3 starts a segment (its predecessor left out).
         p.whiten(&mut w, 0, 1, e.len(), |k| k == 3);
-        let expected = [(1.0 - rho * rho).sqrt() * e[0], e[1] - rho * e[0], e[2] - rho * e[1], (1.0 - rho * rho).sqrt() * e[3], e[4] - rho * e[3]];
+        let expected = [
+            (1.0 - rho * rho).sqrt() * e[0],
+            e[1] - rho * e[0],
+            e[2] - rho * e[1],
+            (1.0 - rho * rho).sqrt() * e[3],
+            e[4] - rho * e[3],
+        ];
         for (a, b) in w.iter().zip(expected) {
             assert!((a - b).abs() < 1e-15, "{w:?} against {expected:?}");
         }

@@ -79,6 +79,14 @@ impl Assess<'_> {
         if wanted(EffectKind::SensorQuantization) {
             candidates.extend(quantization_candidates(&start, raw, data, reference, free)?);
         }
-        Ok(Assessment { localisation, trials, candidates, noise, reference_likelihoods, force_noise, coloured })
+        Ok(Assessment {
+            localisation,
+            trials,
+            candidates,
+            noise,
+            reference_likelihoods,
+            force_noise,
+            coloured,
+        })
     }
 }

@@ -81,8 +81,18 @@ impl Checks<'_> {
     }
 
     fn chosen(&self, candidates: &mut [Candidate], found: &mut Found) -> Option<usize> {
-        let Checks { model, options, mismatch, reference, free, trials, data, noise, reference_likelihoods, coloured } =
-            *self;
+        let Checks {
+            model,
+            options,
+            mismatch,
+            reference,
+            free,
+            trials,
+            data,
+            noise,
+            reference_likelihoods,
+            coloured,
+        } = *self;
         let tolerance = options.file_tolerance;
         let likelihoods = |outcome: &FitOutcome| noise.log_likelihoods(&outcome.first().residual(), None);
         let mut i = choose(candidates, options.threshold)?;

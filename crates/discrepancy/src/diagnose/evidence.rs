@@ -625,7 +625,12 @@ mod tests {
         }
         // The resonant output's scale is its predictor's, not AR(1)'s.
         let ar1 = noise.fit_weights(&residual);
-        assert!((fit.weights[0] / ar1.weights[0] - 1.0).abs() > 0.05, "{} {}", fit.weights[0], ar1.weights[0]);
+        assert!(
+            (fit.weights[0] / ar1.weights[0] - 1.0).abs() > 0.05,
+            "{} {}",
+            fit.weights[0],
+            ar1.weights[0]
+        );
         assert_eq!(fit.weights[1], ar1.weights[1]);
     }
 }

@@ -57,7 +57,8 @@
 //!    at the hub) is demanded neither to be asymmetric nor to change with time: refitted with
 //!    k₂q_c² or with k₁′·t·q_c beside its k₃q_c³ and a symmetric k₅q_c⁵, neither term is
 //!    determined while gaining the threshold and a tenth of the spring's own gain in sample, or
-//!    lying 5 standard errors from zero
+//!    lying 5 standard errors from zero (refitted by the scored likelihood itself where the
+//!    noise is coloured beyond AR(1), so that the standard error is that likelihood's)
 //!    ([`SpringForm`], [`Verdict::Asymmetric`], [`Verdict::TimeVarying`], module `spring`; the
 //!    hub spring, whose free decay stays on one side of zero, for a loss of stiffness with time
 //!    only, the change a warming servo shows). A

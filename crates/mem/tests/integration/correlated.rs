@@ -145,7 +145,8 @@ fn an_ar1_predictor_fits_as_the_ar1_correlation_does() {
     let data = simulate_measurement(&model, &family.p_nominal, 0.05, 300, 0.02, 7);
     let start: Vec<f64> = family.p_nominal.iter().map(|v| v * 1.03).collect();
     let rho = [0.8, -0.3];
-    let samples: Vec<f64> = (0..data.n_samples()).map(|k| if (k / 25) % 2 == 0 { 1.0 } else { 0.0 }).collect();
+    let samples: Vec<f64> =
+        (0..data.n_samples()).map(|k| if (k / 25) % 2 == 0 { 1.0 } else { 0.0 }).collect();
     let fit = Fit::new().with_max_iterations(5).unwrap().with_derivative_check(DerivativeCheck::Skip);
     let run = |experiment: Experiment<'_>| {
         fit.run(&Problem::unnamed(vec![experiment.with_sample_weights(samples.clone())], &start).unwrap())
@@ -203,7 +204,8 @@ fn under_a_coloured_predictor_the_error_is_its_innovations_sum_of_squares() {
     // A resonant autocovariance: a damped cosine, γ_l = 0.9^l cos(0.6 l).
     let gamma: Vec<f64> = (0..=6).map(|l| 0.9_f64.powi(l) * (0.6 * l as f64).cos()).collect();
     let predictor = NoisePredictor::of_autocovariance(&gamma).expect("positive definite");
-    let samples: Vec<f64> = (0..data.n_samples()).map(|k| if (k / 40) % 2 == 1 { 1.0 } else { 0.0 }).collect();
+    let samples: Vec<f64> =
+        (0..data.n_samples()).map(|k| if (k / 40) % 2 == 1 { 1.0 } else { 0.0 }).collect();
     let experiment = Experiment::new(&model, &data)
         .with_sample_weights(samples.clone())
         .with_noise_predictors(vec![predictor.clone(), predictor]);
@@ -234,8 +236,9 @@ fn predictors_must_be_one_per_output_and_not_beside_a_correlation() {
     let short = Experiment::new(&model, &data).with_noise_predictors(vec![one()]);
     let error = Problem::unnamed(vec![short], &family.p_nominal).err().unwrap();
     assert!(error.to_string().contains("one noise predictor per output"), "{error}");
-    let both =
-        Experiment::new(&model, &data).with_noise_predictors(vec![one(), one()]).with_noise_correlation(vec![0.5, 0.5]);
+    let both = Experiment::new(&model, &data)
+        .with_noise_predictors(vec![one(), one()])
+        .with_noise_correlation(vec![0.5, 0.5]);
     let error = Problem::unnamed(vec![both], &family.p_nominal).err().unwrap();
     assert!(error.to_string().contains("not both"), "{error}");
 }
