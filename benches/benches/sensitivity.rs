@@ -113,6 +113,35 @@ fn bench_forced_iteration(c: &mut Criterion) {
     group.finish();
 }
 
+/// A Gauss–Newton step whose residuals and sensitivities are whitened (generalised least
+/// squares) against the same step unwhitened: AR(1), and a predictor of order 20 (a resonant
+/// autocovariance, γ_l = 0.95^l cos(0.3 l)), as the diagnosis's force-noise likelihood uses.
+fn bench_whitened_iteration(c: &mut Criterion) {
+    let mut group = c.benchmark_group("whitened_iteration");
+    let gamma: Vec<f64> = (0..=20).map(|l| 0.95_f64.powi(l) * (0.3 * l as f64).cos()).collect();
+    let predictor = mem::NoisePredictor::of_autocovariance(&gamma).expect("positive definite");
+    for size in &SIZES[..2] {
+        let fam = family(*size);
+        let model = mem::LinearResponse(fam.clone());
+        let truth: Vec<f64> = fam.p_nominal.iter().map(|v| v * 1.03).collect();
+        let data = test_problems::simulate_measurement(&model, &truth, 1.0 / 12.8, size.samples, 0.01, 1);
+        let outputs = data.n_outputs();
+        let plain = || mem::Experiment::normalized(&model, &data);
+        let problems = [
+            ("white", plain()),
+            ("ar1", plain().with_noise_correlation(vec![0.9; outputs])),
+            ("order_20", plain().with_noise_predictors(vec![predictor.clone(); outputs])),
+        ]
+        .map(|(name, e)| (name, mem::Problem::unnamed(vec![e], &fam.p_nominal).unwrap()));
+        for (name, problem) in &problems {
+            group.bench_function(BenchmarkId::new(*name, size.name), |b| {
+                b.iter(|| mem::gauss_newton_step(black_box(problem), &fam.p_nominal, 1e-10).unwrap())
+            });
+        }
+    }
+    group.finish();
+}
+
 fn bench_paper_fit(c: &mut Criterion) {
     let problem = memid_benches::paper_fit();
     let experiments =
@@ -128,6 +157,7 @@ criterion_group!(
     bench_propagator,
     bench_iteration,
     bench_forced_iteration,
+    bench_whitened_iteration,
     bench_paper_fit
 );
 criterion_main!(benches);
