@@ -28,6 +28,14 @@ fn with_ar1(clean: &Measurement, rho: f64, sigma: &[f64], seed: u64) -> Measurem
     Measurement::new(clean.names().to_vec(), clean.start(), clean.interval(), values).unwrap()
 }
 
+/// The record less the model's simulated outputs at `p` (K × p).
+fn residual_at(model: &LinearResponse<ModalFamily>, data: &Measurement, p: &[f64]) -> Mat<f64> {
+    let simulated = Measurement::simulate(model, p, data.interval(), data.n_samples()).unwrap();
+    Mat::from_fn(data.n_samples(), data.n_outputs(), |k, o| {
+        data.values()[(k, o)] - simulated.values()[(k, o)]
+    })
+}
+
 /// The innovations' weighted sum of squares Σ_o w_o² Σ_k s_k u_k², u the AR(1) innovations
 /// of the residual on segments of consecutive samples of positive weight — written out
 /// separately from the crate's whitening.
@@ -63,10 +71,7 @@ fn the_error_is_the_innovations_sum_of_squares_on_each_segment() {
     let experiment = experiment.with_noise_correlation(rho.clone());
     let once = Fit::new().with_max_iterations(1).unwrap().with_derivative_check(DerivativeCheck::Skip);
     let report = once.run(&Problem::unnamed(vec![experiment], &p).unwrap()).unwrap();
-    let simulated = Measurement::simulate(&model, &p, data.interval(), data.n_samples()).unwrap();
-    let residual = Mat::from_fn(data.n_samples(), data.n_outputs(), |k, o| {
-        data.values()[(k, o)] - simulated.values()[(k, o)]
-    });
+    let residual = residual_at(&model, &data, &p);
     let expected = innovations_error(&residual, &rho, &weights, &samples);
     let got = report.error_history[0];
     assert!((got / expected - 1.0).abs() < 1e-10, "{got} against {expected}");
@@ -108,12 +113,7 @@ fn the_whitened_fit_maximises_the_ar1_likelihood_the_plain_fit_does_not() {
     let plain = fit.run(&Problem::unnamed(vec![Experiment::new(&model, &data)], &start).unwrap()).unwrap();
     let whitened = Experiment::new(&model, &data).with_noise_correlation(rho.clone());
     let whitened = fit.run(&Problem::unnamed(vec![whitened], &start).unwrap()).unwrap();
-    let residual = |p: &[f64]| {
-        let simulated = Measurement::simulate(&model, p, data.interval(), data.n_samples()).unwrap();
-        Mat::from_fn(data.n_samples(), data.n_outputs(), |k, o| {
-            data.values()[(k, o)] - simulated.values()[(k, o)]
-        })
-    };
+    let residual = |p: &[f64]| residual_at(&model, &data, p);
     let ones = vec![1.0; data.n_samples()];
     let innovations = |p: &[f64]| innovations_error(&residual(p), &rho, &[1.0, 1.0], &ones);
     let squares = |p: &[f64]| residual(p).squared_norm_l2();
@@ -136,27 +136,6 @@ fn a_correlation_outside_the_unit_interval_is_rejected() {
     }
     let experiment = Experiment::new(&model, &data).with_noise_correlation(vec![0.5, 0.5]);
     assert!(Problem::unnamed(vec![experiment], &family.p_nominal).is_err());
-}
-
-#[test]
-fn an_ar1_predictor_fits_as_the_ar1_correlation_does() {
-    let family = ModalFamily::new(3, 3, 2, 14);
-    let model = LinearResponse(family.clone());
-    let data = simulate_measurement(&model, &family.p_nominal, 0.05, 300, 0.02, 7);
-    let start: Vec<f64> = family.p_nominal.iter().map(|v| v * 1.03).collect();
-    let rho = [0.8, -0.3];
-    let samples: Vec<f64> =
-        (0..data.n_samples()).map(|k| if (k / 25) % 2 == 0 { 1.0 } else { 0.0 }).collect();
-    let fit = Fit::new().with_max_iterations(5).unwrap().with_derivative_check(DerivativeCheck::Skip);
-    let run = |experiment: Experiment<'_>| {
-        fit.run(&Problem::unnamed(vec![experiment.with_sample_weights(samples.clone())], &start).unwrap())
-            .unwrap()
-    };
-    let by_rho = run(Experiment::normalized(&model, &data).with_noise_correlation(rho.to_vec()));
-    let predictors = rho.iter().map(|r| NoisePredictor::ar1(*r).unwrap()).collect();
-    let by_predictor = run(Experiment::normalized(&model, &data).with_noise_predictors(predictors));
-    assert_eq!(by_rho.error_history, by_predictor.error_history);
-    assert_eq!(by_rho.parameters, by_predictor.parameters);
 }
 
 /// An AR(q) predictor's error: per output the scaled innovations of the residual on segments
@@ -211,10 +190,7 @@ fn under_a_coloured_predictor_the_error_is_its_innovations_sum_of_squares() {
         .with_noise_predictors(vec![predictor.clone(), predictor]);
     let once = Fit::new().with_max_iterations(1).unwrap().with_derivative_check(DerivativeCheck::Skip);
     let report = once.run(&Problem::unnamed(vec![experiment], &p).unwrap()).unwrap();
-    let simulated = Measurement::simulate(&model, &p, data.interval(), data.n_samples()).unwrap();
-    let residual = Mat::from_fn(data.n_samples(), data.n_outputs(), |k, o| {
-        data.values()[(k, o)] - simulated.values()[(k, o)]
-    });
+    let residual = residual_at(&model, &data, &p);
     let expected = predicted_error(&residual, &gamma, &samples);
     let got = report.error_history[0];
     assert!((got / expected - 1.0).abs() < 1e-10, "{got} against {expected}");
