@@ -76,7 +76,10 @@
 //!    the driven floor damps the small, quick response to that noise more than the large one to
 //!    the force: it gains on a record with nothing missing but a clean force. A missing effect
 //!    removes what it put there itself; a stand-in for the noise removes part of what the noise
-//!    put there and leaves the rest.
+//!    put there and leaves the rest. An effect that gains more than [`FORCE_NOISE_EXEMPT`] nats
+//!    held out is not screened: the screen weighs powers, the evidence likelihoods, and a narrow
+//!    band the noise leaves quiet can hold a strong effect whose power is small beside the
+//!    noise's response at the modelled modes.
 //!
 //! A named dry friction on the slewing rig is first set against a servo whose stiffness falls
 //! with time: refitted with −k₁′·t·θ at the hub beside it (the hub spring's rate, module
@@ -163,7 +166,7 @@ pub use answer::{
     RIVAL_MARGIN, Rival, SaturationKnee, ScaleChoice, SecondaryMismatch, SpringForm, SpringTerm, StaticPeak,
     TimeLaw, Verdict,
 };
-pub use force_noise::FORCE_NOISE_SHARE;
+pub use force_noise::{FORCE_NOISE_EXEMPT, FORCE_NOISE_SHARE};
 pub use options::{
     DEFAULT_FILE_TOLERANCE, DEFAULT_THRESHOLD, DiagnoseOptions, MIN_MODE_STRUCTURE_EXPLAINED,
     MIN_SENSOR_STRUCTURE_EXPLAINED, MIN_SPRING_STRUCTURE_EXPLAINED, MIN_STRUCTURE_EXPLAINED,

@@ -112,11 +112,13 @@ impl Diagnosis {
         Some(format!(
             "noise on the recorded input{}: {}; it accounts for {:.0} % of the best-fitting residual, and an \
              effect acting through the dynamics, or a sensor's scale or crosstalk, must remove at least {:.0} % \
-             of what it accounts for in the residual its refit leaves{coloured}",
+             of what it accounts for in the residual its refit leaves, unless it gains more than {:.0} nats held \
+             out{coloured}",
             if levels.len() == 1 { "" } else { "s" },
             levels.join(", "),
             100.0 * noise.share,
-            100.0 * super::FORCE_NOISE_SHARE
+            100.0 * super::FORCE_NOISE_SHARE,
+            super::FORCE_NOISE_EXEMPT
         ))
     }
 

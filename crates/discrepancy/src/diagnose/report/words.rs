@@ -157,9 +157,11 @@ impl Diagnosis {
                             Verdict::NotPredictive => "not predictive on held-out blocks".to_string(),
                             Verdict::WithinForceNoise => format!(
                                 "predictive on held-out blocks, but it removes less than {:.0} % of what the \
-                                 noise on the recorded force accounts for in the residual it leaves: it may only \
-                                 take up the model's response to that noise",
-                                100.0 * super::super::FORCE_NOISE_SHARE
+                                 noise on the recorded force accounts for in the residual it leaves, and gains \
+                                 at most {:.0} nats held out: it may only take up the model's response to that \
+                                 noise",
+                                100.0 * super::super::FORCE_NOISE_SHARE,
+                                super::super::FORCE_NOISE_EXEMPT
                             ),
                             Verdict::Superficial => format!(
                                 "predictive on held-out blocks but it removes only {:.0} % of the residual's \
