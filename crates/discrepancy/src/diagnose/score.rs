@@ -114,15 +114,17 @@ impl Scoring<'_> {
         let share = |left: f64, held: f64| if held > MIN_STRUCTURE { 1.0 - left / held } else { 1.0 };
         // On a forced record with noise on its force, a sensor effect's share on its own output
         // is of the structure beyond the better of that noise model and the one read again from
-        // each residual itself, the reference's and the refit's ([`own_output_structure`]).
-        let reference_on_output =
-            |o: usize| own_output_structure(&noise, &reference.outcome, data, &reference_per_output, o);
+        // each residual itself, the reference's and the refit's ([`own_structure`]).
+        let reference_on_output = own_structure(&noise, &reference.outcome, data, &reference_per_output);
         // The share of the structure a refit removes, in all and on a sensor effect's own output
         // (one AR fit per output serves both).
         let explained = |outcome: &FitOutcome, output: Option<usize>| {
             let left = beyond(&outcome.first().residual());
             let on = |o: usize| {
-                share(own_output_structure(&noise, outcome, data, &left, o), reference_on_output(o))
+                share(
+                    own_structure(&noise, outcome, data, &left).get(o).copied().unwrap_or(0.0),
+                    reference_on_output.get(o).copied().unwrap_or(0.0),
+                )
             };
             (share(left.iter().sum(), reference_structure), output.map(on))
         };
@@ -237,10 +239,10 @@ impl Scoring<'_> {
     }
 }
 
-/// Output o's structure in `outcome`'s residual beyond the better, for that output, of the
-/// measurement model `noise` (whose structure, per output, is `shared`) and the same model with
-/// its force-noise predictors read again from this residual ([`force_noise::read`]); `shared[o]`
-/// where `noise` has no predictors (no noise on a recorded force) or the read fails.
+/// Per output, the structure in `outcome`'s residual beyond the better, for that output, of the
+/// measurement model `noise` (whose structure is `shared`) and the same model with its
+/// force-noise predictors read again from this residual ([`force_noise::read`]); `shared` where
+/// `noise` has no predictors (no noise on a recorded force) or the read fails.
 ///
 /// A sensor's offset or drift adds to its readings what the response does not, and where it is
 /// what is missing it leaves its output unstructured but for the noise
@@ -249,25 +251,16 @@ impl Scoring<'_> {
 /// read 0.11–0.6 % against a truth of 1 % on draw 20261316): the noise's response the read
 /// misses is then counted as structure the sensor effect leaves. Read from the residual the
 /// effect leaves — as the force-noise screen reads it ([`force_noise::screen`]) — it is not.
-fn own_output_structure(
-    noise: &NoiseModel,
-    outcome: &FitOutcome,
-    data: &Measurement,
-    shared: &[f64],
-    o: usize,
-) -> f64 {
-    let here = shared.get(o).copied().unwrap_or(0.0);
-    if noise.predictors.is_empty() {
-        return here;
-    }
-    let Some(read) = force_noise::read(outcome, data) else { return here };
+fn own_structure(noise: &NoiseModel, outcome: &FitOutcome, data: &Measurement, shared: &[f64]) -> Vec<f64> {
+    let read = (!noise.predictors.is_empty()).then(|| force_noise::read(outcome, data)).flatten();
+    let Some(read) = read else { return shared.to_vec() };
     let own = NoiseModel {
         predictors: force_noise::predictors(&read, noise),
         predictor_order: Vec::new(),
         rho: noise.rho.clone(),
     };
     let again = evidence::structure_per_output(&outcome.first().residual(), &own);
-    again.get(o).copied().map_or(here, |s| s.min(here))
+    shared.iter().enumerate().map(|(o, &here)| again.get(o).map_or(here, |&s| s.min(here))).collect()
 }
 
 /// The measurement model read from one fit's residual: ρ per output, and on a forced record the
