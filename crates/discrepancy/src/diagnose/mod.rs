@@ -22,7 +22,9 @@
 //!    AR(1), [`evidence::structure`]): missing physics explains the structure it leaves, a
 //!    stand-in only shaves it;
 //! 6. a sensor effect removes at least half the structure on the one output it acts on
-//!    ([`MIN_SENSOR_STRUCTURE_EXPLAINED`]): a sensor's error acts there alone; an unmodeled
+//!    ([`MIN_SENSOR_STRUCTURE_EXPLAINED`]; on a record whose recorded force has noise, beyond
+//!    the better of the measurement model and the force's noise read from each residual
+//!    itself): a sensor's error acts there alone; an unmodeled
 //!    mode removes at least half of all of it ([`MIN_MODE_STRUCTURE_EXPLAINED`]): a mode is
 //!    linear, as the model is, and where it is what is missing it leaves little but noise; a
 //!    cubic stiffness removes at least half of it too ([`MIN_SPRING_STRUCTURE_EXPLAINED`]):
