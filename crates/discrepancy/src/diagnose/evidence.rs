@@ -53,7 +53,7 @@ pub struct NoiseModel {
 }
 
 /// The noise's linear predictors where it is coloured beyond AR(1) (mem's
-/// [`NoisePredictor`]: Levinson–Durbin on the autocovariance, the exact Gaussian likelihood of
+/// [`NoisePredictor`](mem::NoisePredictor): Levinson–Durbin on the autocovariance, the exact Gaussian likelihood of
 /// any segment).
 pub use mem::NoisePredictor as Predictor;
 

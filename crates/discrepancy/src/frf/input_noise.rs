@@ -119,8 +119,8 @@ impl RecordedInputs {
         (inputs.excited.len() >= 5).then_some(inputs)
     }
 
-    /// Per input, the largest variance σ_i² its noise may be read at: [`CEILING_MARGIN`] times
-    /// its own spectral floor ([`ceiling`]).
+    /// Per input, the largest variance σ_i² its noise may be read at: `CEILING_MARGIN` (2) times
+    /// its own spectral floor (the mean of its lowest quarter of Welch bins).
     pub fn ceilings(&self) -> &[f64] {
         &self.ceilings
     }
