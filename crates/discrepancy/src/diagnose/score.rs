@@ -13,6 +13,7 @@ use super::{
     min_structure_explained, schedule,
 };
 use crate::WorkflowError;
+use crate::frf::InputNoise;
 use faer::Mat;
 use mem::Measurement;
 use models::{FitOutcome, Model};
@@ -254,11 +255,7 @@ impl Scoring<'_> {
 fn own_structure(noise: &NoiseModel, outcome: &FitOutcome, data: &Measurement, shared: &[f64]) -> Vec<f64> {
     let read = (!noise.predictors.is_empty()).then(|| force_noise::read(outcome, data)).flatten();
     let Some(read) = read else { return shared.to_vec() };
-    let own = NoiseModel {
-        predictors: force_noise::predictors(&read, noise),
-        predictor_order: Vec::new(),
-        rho: noise.rho.clone(),
-    };
+    let own = with_force_noise(noise.clone(), &read);
     let again = evidence::structure_per_output(&outcome.first().residual(), &own);
     shared.iter().enumerate().map(|(o, &here)| again.get(o).map_or(here, |&s| s.min(here))).collect()
 }
@@ -266,11 +263,17 @@ fn own_structure(noise: &NoiseModel, outcome: &FitOutcome, data: &Measurement, s
 /// The measurement model read from one fit's residual: ρ per output, and on a forced record the
 /// predictors of the noise its recorded force's noise leaves ([`force_noise::predictors`]).
 fn measurement_model(best: &FitOutcome, data: &Measurement) -> NoiseModel {
-    let mut noise = NoiseModel::of(&best.first().residual());
-    if let Some(read) = force_noise::read(best, data) {
-        noise.predictors = force_noise::predictors(&read, &noise);
-        noise.predictor_order =
-            noise.predictors.iter().map(|p| p.as_ref().map_or(0, Predictor::order)).collect();
+    let noise = NoiseModel::of(&best.first().residual());
+    match force_noise::read(best, data) {
+        Some(read) => with_force_noise(noise, &read),
+        None => noise,
     }
+}
+
+/// `noise` (its ρ_o kept) with the predictors of the noise the force's noise `read` leaves
+/// ([`force_noise::predictors`]) and their orders.
+fn with_force_noise(mut noise: NoiseModel, read: &InputNoise) -> NoiseModel {
+    noise.predictors = force_noise::predictors(read, &noise);
+    noise.predictor_order = noise.predictors.iter().map(|p| p.as_ref().map_or(0, Predictor::order)).collect();
     noise
 }
