@@ -117,7 +117,7 @@ mod solve;
 pub mod stats;
 mod vector;
 
-pub use data::{Decimation, Inputs, MAX_SAMPLES, Measurement};
+pub use data::{Decimation, Inputs, MAX_SAMPLES, Measurement, csv_header};
 pub use error::{BoxedError, MemError};
 pub use evaluate::sampled_response;
 pub use experiment::Experiment;

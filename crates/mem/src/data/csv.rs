@@ -94,12 +94,8 @@ impl Measurement {
 
     /// The record as CSV text (`t,<outputs>,<inputs>`), numbers in shortest round-trip form.
     pub fn to_csv(&self) -> String {
-        let mut out = String::from("t");
-        for n in self.names.iter().chain(self.inputs.iter().flat_map(|i| i.names.iter())) {
-            out.push(',');
-            out.push_str(n);
-        }
-        out.push('\n');
+        let names = self.names.iter().chain(self.inputs.iter().flat_map(|i| i.names.iter()));
+        let mut out = csv_header(names.map(String::as_str));
         let inputs_here = self.inputs.as_ref().filter(|i| i.values.nrows() == self.n_samples());
         for k in 0..self.n_samples() {
             out.push_str(&format!("{}", self.start + k as f64 * self.interval));
@@ -115,4 +111,23 @@ impl Measurement {
         }
         out
     }
+}
+
+/// The header line `t,<names>` (ending in a newline), each name quoted where CSV needs it (a
+/// comma, a quote or a line break in it, RFC 4180), so that [`Measurement::from_csv`] reads the
+/// names back.
+pub fn csv_header<'a>(names: impl IntoIterator<Item = &'a str>) -> String {
+    let mut out = String::from("t");
+    for name in names {
+        out.push(',');
+        if name.contains([',', '"', '\n', '\r']) {
+            out.push('"');
+            out.push_str(&name.replace('"', "\"\""));
+            out.push('"');
+        } else {
+            out.push_str(name);
+        }
+    }
+    out.push('\n');
+    out
 }

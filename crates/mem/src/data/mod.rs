@@ -2,6 +2,8 @@
 //! model goes through too, CSV reading.
 
 mod csv;
+
+pub use csv::csv_header;
 mod decimate;
 
 pub use decimate::Decimation;

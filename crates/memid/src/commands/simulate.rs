@@ -146,12 +146,7 @@ pub fn run(args: Args) -> Result<()> {
         }
     }
     // Columns: t, the inputs (as given), then the outputs.
-    let mut text = String::from("t");
-    for name in input_names.iter().chain(&names) {
-        text.push(',');
-        text.push_str(name);
-    }
-    text.push('\n');
+    let mut text = mem::csv_header(input_names.iter().chain(&names).map(String::as_str));
     for k in 0..n {
         text += &format!("{}", start + k as f64 * h);
         if let Some(inputs) = drive.as_ref().and_then(|d| d.inputs()) {

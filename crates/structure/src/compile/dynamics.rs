@@ -22,6 +22,31 @@ fn distinct_names(ctx: &Ctx, names: &[String], path: &Path, what: &str) -> Resul
     Ok(())
 }
 
+/// Checks a CSV column's name (an input's or an output's): not empty, not the time column's, and
+/// without spaces at its ends or control characters, which a CSV reader trims or cannot hold in
+/// a header, so that no record could match it.
+fn csv_column(ctx: &Ctx, name: &str, path: &Path, what: &str) -> Result<(), StructureError> {
+    if name.trim().is_empty() {
+        return Err(ctx.invalid(path, format!("{what} needs a name (its CSV column)")));
+    }
+    if name != name.trim() || name.contains(char::is_control) {
+        return Err(ctx.invalid_name(
+            path,
+            format!(
+                "column {name:?} has spaces at its ends or a control character, which a CSV header cannot keep; write it as {:?}",
+                name.trim().replace(char::is_control, "_")
+            ),
+        ));
+    }
+    if matches!(name, "t" | "time") {
+        return Err(ctx.invalid_name(
+            path,
+            format!("`{name}` names the time column of a CSV record; choose another name"),
+        ));
+    }
+    Ok(())
+}
+
 /// Reads the inputs' names and units; `force` must be present exactly for second-order files.
 fn inputs(
     c: &Compiler,
@@ -32,9 +57,7 @@ fn inputs(
     let names: Vec<String> = inputs.iter().map(|i| i.name.clone()).collect();
     let each = |i: usize| path.index(i);
     for (i, name) in names.iter().enumerate() {
-        if name.trim().is_empty() {
-            return Err(c.ctx.invalid(&each(i).field("name"), "an input needs a name (its CSV column)"));
-        }
+        csv_column(c.ctx, name, &each(i).field("name"), "an input")?;
         if names[..i].contains(name) {
             return Err(c.ctx.invalid_name(
                 &each(i).field("name"),
@@ -281,9 +304,7 @@ pub(super) fn outputs(
         let path = root.index(o);
         let column = &output.column;
         let column_path = path.field("column");
-        if column.trim().is_empty() {
-            return Err(c.ctx.invalid(&column_path, "an output needs a column name (its CSV header)"));
-        }
+        csv_column(c.ctx, column, &column_path, "an output")?;
         if out.iter().any(|(named, _)| &named.name == column) {
             return Err(c.ctx.invalid_name(
                 &column_path,

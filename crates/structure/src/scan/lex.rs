@@ -88,10 +88,15 @@ pub(super) fn tokenize(text: &str) -> Vec<Token> {
                 Tok::Other
             }
             c if is_ident_start(c) => {
-                let raw_ident = rest.starts_with("r#");
+                // `r#name` is a raw identifier only when a name follows; a bare `r#` is `r`, then `#`.
+                let raw_ident = rest
+                    .strip_prefix("r#")
+                    .and_then(|after| after.chars().next())
+                    .is_some_and(is_ident_start);
                 let from = if raw_ident { i + 2 } else { i };
+                // At least the identifier's first character, which is one (is_ident_start ⊂ is_ident_char).
                 let len = text[from..].find(|c: char| !is_ident_char(c)).unwrap_or(text.len() - from);
-                i = from + len.max(1);
+                i = from + len;
                 Tok::Ident(text[from..i].to_string())
             }
             '0'..='9' | '.' | '+' | '-' => {

@@ -83,3 +83,16 @@ fn malformed_text_never_panics() {
         let _ = has_top_level_field(text, "a");
     }
 }
+
+/// Found by `fuzz/` (model_file, the 4 bytes "\r\0r#"): a bare `r#` at the end of the text, or
+/// before a character that starts no name, read one byte past the text or into a character.
+#[test]
+fn a_bare_raw_identifier_prefix_is_read_without_panic() {
+    for text in ["\r\0r#", "r#", "(a: r#é)", "(a: r#)", "(r#: 1)", "r#\u{e9}", "(x: r#abc)"] {
+        let _ = Tree::parse(text);
+        let tokens = tokenize(text);
+        assert!(tokens.iter().all(|t| t.end <= text.len() && text.is_char_boundary(t.end)), "{text:?}");
+    }
+    let tree = Tree::parse("(x: r#abc, y: 2)");
+    assert!(matches!(tree.find(&Path::default().field("y")).1, Some(Node::Atom { .. })));
+}

@@ -189,6 +189,22 @@ fn repeated_and_invalid_names_point_at_the_second_one() {
     error_at(&text, r#"(column: "q1", measures: Displacement("q3")"#, r#"q1""#);
 }
 
+/// A column's name is a CSV header field: a name a reader would trim, or the time column's,
+/// could never match a record, and is refused where it stands (found with `fuzz/`).
+#[test]
+fn column_names_a_csv_header_cannot_hold_point_at_the_name() {
+    let text = edited(r#"(column: "q3""#, r#"(column: " q3""#);
+    let message = error_at(&text, r#"(column: " q3""#, r#" q3""#).to_string();
+    assert!(message.contains(r#"write it as "q3""#), "{message}");
+    let text = edited(r#"(column: "q3""#, r#"(column: "q\t3""#);
+    error_at(&text, r#"(column: "q\t3""#, r#"q\t3""#);
+    let text = edited(r#"(column: "q3""#, r#"(column: "t""#);
+    let message = error_at(&text, r#"(column: "t""#, r#"t""#).to_string();
+    assert!(message.contains("time column"), "{message}");
+    // A comma or a quote is kept: the writers quote it (mem::csv_header).
+    assert!(StructureModel::from_ron(&edited(r#"(column: "q3""#, r#"(column: "q,\"3""#), ORIGIN).is_ok());
+}
+
 #[test]
 fn second_and_first_order_fields_are_not_mixed() {
     let text = edited("initial: (displacement", "initial: (state: [0, 0, 0, 0, 0, 0], displacement");
