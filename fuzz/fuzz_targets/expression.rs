@@ -1,6 +1,6 @@
 //! A model file's expression (`"k1 + k2"`, `"sqrt(k/m)"`, …): parsing must answer Ok or a located
 //! error, never panic; an expression that parses must print as text that parses to the same
-//! values, and evaluate alike in f64, checked, and as a dual number's real part.
+//! values, and evaluate alike in f64, checked, and (but for rounding) as a dual number's real part.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
@@ -14,6 +14,12 @@ fn same(x: f64, y: f64) -> bool {
     x == y || (x.is_nan() && y.is_nan())
 }
 
+/// Equal but for rounding: num-dual's powers and functions may round the real part differently
+/// in the last bits (`a^3` as a product, not `powi`; `a^(a^22)` through exp and ln).
+fn close(x: f64, y: f64) -> bool {
+    same(x, y) || (x - y).abs() <= 1e-10 * x.abs().max(y.abs())
+}
+
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else { return };
     let Ok(expr) = Expr::parse(text, &NAMES) else { return };
@@ -23,7 +29,7 @@ fuzz_target!(|data: &[u8]| {
         Err(e) => assert!(!value.is_finite(), "{text}: {value} reported as {e}"),
     }
     let dual = expr.eval(&VALUES.map(Dual64::from_re).map(|d| d.derivative()));
-    assert!(same(value, dual.re), "{text}: {value} but the dual's real part {}", dual.re);
+    assert!(close(value, dual.re), "{text}: {value} but the dual's real part {}", dual.re);
     let printed = expr.to_string();
     let again = Expr::parse(&printed, &NAMES)
         .unwrap_or_else(|e| panic!("{text:?} printed as {printed:?}, which does not parse: {e}"));

@@ -27,7 +27,8 @@ use std::sync::Arc;
 /// The largest integer exponent evaluated with `powi`; larger ones use `powf`.
 const MAX_POWI: f64 = 1024.0;
 
-/// How deeply an expression may nest (parentheses, unary operators, operator chains).
+/// How deeply an expression's tree may nest (unary operators, operator chains, calls); its text
+/// may nest parentheses more deeply, up to four times this.
 pub const MAX_DEPTH: usize = 100;
 
 /// A parsed expression of named parameters.

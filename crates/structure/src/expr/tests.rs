@@ -109,6 +109,16 @@ fn depth_limits() {
     assert!(matches!(Expr::parse(&chain, &NAMES), Err(ExprError::TooDeep { .. })));
     let powers = vec!["x"; 10_000].join("^");
     assert!(matches!(Expr::parse(&powers, &NAMES), Err(ExprError::TooDeep { .. })));
+    // A tree at the limit prints as text that parses back to it, however its print nests.
+    for text in [
+        format!("{}x", "-".repeat(MAX_DEPTH - 1)),
+        format!("{}x{}", "x - -(".repeat(MAX_DEPTH / 2 - 1), ")".repeat(MAX_DEPTH / 2 - 1)),
+        format!("{}x{}", "y^-(".repeat(MAX_DEPTH / 2 - 1), ")".repeat(MAX_DEPTH / 2 - 1)),
+    ] {
+        let e = Expr::parse(&text, &NAMES).unwrap_or_else(|err| panic!("{text}: {err}"));
+        let printed = e.to_string();
+        assert_eq!(Expr::parse(&printed, &NAMES).as_ref(), Ok(&e), "{text} printed as {printed}");
+    }
     // Constant chains fold as they go, so their length is not limited.
     let sum = vec!["1"; 10_000].join(" + ");
     assert_eq!(Expr::parse(&sum, &NAMES).map(|e| e.as_constant()), Ok(Some(10_000.0)));
