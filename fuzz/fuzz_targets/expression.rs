@@ -29,7 +29,12 @@ fuzz_target!(|data: &[u8]| {
         Err(e) => assert!(!value.is_finite(), "{text}: {value} reported as {e}"),
     }
     let dual = expr.eval(&VALUES.map(Dual64::from_re).map(|d| d.derivative()));
-    assert!(close(value, dual.re), "{text}: {value} but the dual's real part {}", dual.re);
+    // Through an infinite part the two may differ (`ln(0)^-1` is -0 in f64, NaN in num-dual). A
+    // model checks the values it assembles and reports a non-finite one, so only finite values
+    // must agree.
+    if value.is_finite() && dual.re.is_finite() {
+        assert!(close(value, dual.re), "{text}: {value} but the dual's real part {}", dual.re);
+    }
     let printed = expr.to_string();
     let again = Expr::parse(&printed, &NAMES)
         .unwrap_or_else(|e| panic!("{text:?} printed as {printed:?}, which does not parse: {e}"));

@@ -13,7 +13,7 @@ impl Node {
             Node::Neg(a) => -a.eval(vars),
             Node::Bin(op, a, b) => op.apply(a.eval(vars), b.eval(vars)),
             Node::Powi(a, n) => a.eval(vars).powi(*n),
-            Node::Powf(a, n) => a.eval(vars).powf(*n),
+            Node::Powf(a, n) => constant_pow(a.eval(vars), *n),
             Node::Pow(a, b) => general_pow(a.eval(vars), b.eval(vars)),
             Node::Call(func, a) => func.apply(a.eval(vars)),
         }
@@ -56,6 +56,22 @@ impl Func {
             Func::Abs => a.abs(),
         }
     }
+}
+
+/// `a^n` for a constant exponent too large for `powi` or not an integer, alike for `f64` and dual
+/// numbers. num-dual's `powf` raises the real part to n − 1 (or n − 3) and multiplies back, so
+/// for a negative base it gave a number where `f64` gives NaN (`x^1e-200`, where n − 1 rounds to −1), or the
+/// wrong sign (an even n beyond 2⁵³, where n − 1 rounds to n); found with `fuzz/expression`. A
+/// negative base is raised as ±|a|^n for an integer n and is NaN otherwise, as in `f64`.
+fn constant_pow<D: DualNum<Primitive = f64>>(a: D, n: f64) -> D {
+    if a.re() >= 0.0 || a.re().is_nan() {
+        return a.powf(n);
+    }
+    if n.fract() != 0.0 {
+        return D::from(f64::NAN);
+    }
+    let magnitude = (-a).powf(n);
+    if (n / 2.0).fract() == 0.0 { magnitude } else { -magnitude }
 }
 
 /// `a^b = exp(b*ln(a))` for an exponent that depends on variables: the same formula for `f64`

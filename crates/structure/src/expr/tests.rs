@@ -224,3 +224,26 @@ proptest! {
         prop_assert_eq!(Expr::parse(&text, &NAMES), Ok(e), "{}", text);
     }
 }
+
+/// A constant power beyond `powi` or not an integer, of a negative base: the dual number's real
+/// part is f64's value and its derivative n·a^(n−1) (found with `fuzz/expression`: num-dual's
+/// `powf` gave a finite value where f64 gives NaN, and the wrong sign for huge even powers).
+#[test]
+fn constant_powers_of_a_negative_base_agree_with_f64() {
+    use num_dual::Dual64;
+    let seeded = |x: f64| [Dual64::from_re(x).derivative(), Dual64::from_re(0.0), Dual64::from_re(0.0)];
+    for (text, n) in [("x^2001", 2001.0), ("x^2000", 2000.0), ("x^-1025", -1025.0)] {
+        let e = expr(text);
+        let (value, dual) = (e.eval(&[-1.01, 0.0, 0.0]), e.eval(&seeded(-1.01)));
+        let exact = (-1.01f64).powi(n as i32);
+        assert!((value - exact).abs() <= 1e-12 * exact.abs(), "{text}: {value} against {exact}");
+        assert_eq!(dual.re, value, "{text}");
+        let slope = n * (-1.01f64).powi(n as i32 - 1);
+        assert!((dual.eps - slope).abs() <= 1e-12 * slope.abs(), "{text}: {} against {slope}", dual.eps);
+    }
+    let e = expr("x^1e-200");
+    assert!(e.eval(&[-0.7f64, 0.0, 0.0]).is_nan());
+    assert!(e.eval(&seeded(-0.7)).re.is_nan());
+    let huge = expr("x^-777777777777777778");
+    assert_eq!(huge.eval(&seeded(-0.7)).re, huge.eval(&[-0.7f64, 0.0, 0.0]));
+}
