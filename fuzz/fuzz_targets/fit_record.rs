@@ -1,6 +1,6 @@
-//! A fit of a fixture model to a short record of arbitrary numbers (constant, tiny, huge,
-//! spiky, quantized): it must answer Ok or an error, never panic, and an answer that is Ok holds
-//! finite parameters and a finite error — never a silent NaN.
+//! A fit of a fixture model (free decay or forced) to a short record of arbitrary numbers
+//! (constant, tiny, huge, spiky, quantized): it must answer Ok or an error, never panic, and an
+//! answer that is Ok holds finite parameters and a finite error — never a silent NaN.
 #![no_main]
 
 use faer::Mat;
@@ -9,8 +9,9 @@ use mem::Measurement;
 use models::{FitRequest, Model};
 use std::sync::OnceLock;
 
-/// The free-decay fixtures: displacements (two outputs) and accelerations (three), with the
-/// free parameters their files name.
+/// The fixtures: free decays of displacements (two outputs) and accelerations (three), and the
+/// forced building (a force in, three accelerations out; and with quantized sensors), each with
+/// the free parameters its file names.
 fn models() -> &'static [Model] {
     static MODELS: OnceLock<Vec<Model>> = OnceLock::new();
     MODELS.get_or_init(|| {
@@ -27,7 +28,8 @@ fn models() -> &'static [Model] {
 fuzz_target!(|data: &[u8]| {
     let [which, scale, interval, rest @ ..] = data else { return };
     let model = &models()[usize::from(*which) % models().len()];
-    let names = model.output_names();
+    // The record's columns: the model's inputs (if any), then its outputs.
+    let names: Vec<String> = model.input_names().into_iter().chain(model.output_names()).collect();
     let p = names.len();
     let k = (rest.len() / (2 * p)).min(64);
     if k < 2 {
