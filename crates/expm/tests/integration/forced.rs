@@ -74,16 +74,33 @@ fn respond(p: &[f64], hold: Hold, h: f64, n: usize, with_parameters: bool) -> Re
 /// RK4 with 200 substeps per sample, the input held (zero order) or interpolated (first order).
 fn rk4(p: &[f64], hold: Hold, h: f64, n: usize) -> Mat<f64> {
     let (a, b, c, d) = system(p);
-    let f = |x: &[f64; 4], u: f64| -> [f64; 4] {
-        std::array::from_fn(|i| (0..4).map(|j| a[(i, j)] * x[j]).sum::<f64>() + b[(i, 0)] * u)
+    rk4_linear([&a, &b, &c, &d], &[0.01, 0.0, 0.0, 0.0], input, hold, h, n, 200)
+}
+
+/// y_k of ẋ = A x + B u, y = C x + D u from x0 (one input), by fixed-step RK4 with `sub` steps
+/// per sample and u between samples as `hold` says: the independent reference of the forced
+/// tests.
+pub(super) fn rk4_linear(
+    [a, b, c, d]: [&Mat<f64>; 4],
+    x0: &[f64],
+    input: impl Fn(usize) -> f64,
+    hold: Hold,
+    h: f64,
+    samples: usize,
+    sub: usize,
+) -> Mat<f64> {
+    let n = x0.len();
+    let f = |x: &[f64], u: f64| -> Vec<f64> {
+        (0..n).map(|i| (0..n).map(|j| a[(i, j)] * x[j]).sum::<f64>() + b[(i, 0)] * u).collect()
     };
-    let mut x = [0.01, 0.0, 0.0, 0.0];
-    let mut y = Mat::zeros(n, 2);
-    let sub = 200;
+    let step =
+        |x: &[f64], s: f64, d: &[f64]| -> Vec<f64> { x.iter().zip(d).map(|(a, b)| a + s * b).collect() };
+    let mut x = x0.to_vec();
+    let mut y = Mat::zeros(samples, c.nrows());
     let dt = h / sub as f64;
-    for k in 0..n {
-        for o in 0..2 {
-            y[(k, o)] = (0..4).map(|j| c[(o, j)] * x[j]).sum::<f64>() + d[(o, 0)] * input(k);
+    for k in 0..samples {
+        for o in 0..c.nrows() {
+            y[(k, o)] = (0..n).map(|j| c[(o, j)] * x[j]).sum::<f64>() + d[(o, 0)] * input(k);
         }
         let u_at = |s: f64| match hold {
             Hold::Zero => input(k),
@@ -92,13 +109,12 @@ fn rk4(p: &[f64], hold: Hold, h: f64, n: usize) -> Mat<f64> {
         for i in 0..sub {
             let s = i as f64 * dt;
             let k1 = f(&x, u_at(s));
-            let x2: [f64; 4] = std::array::from_fn(|r| x[r] + 0.5 * dt * k1[r]);
-            let k2 = f(&x2, u_at(s + 0.5 * dt));
-            let x3: [f64; 4] = std::array::from_fn(|r| x[r] + 0.5 * dt * k2[r]);
-            let k3 = f(&x3, u_at(s + 0.5 * dt));
-            let x4: [f64; 4] = std::array::from_fn(|r| x[r] + dt * k3[r]);
-            let k4 = f(&x4, u_at(s + dt));
-            x = std::array::from_fn(|r| x[r] + dt / 6.0 * (k1[r] + 2.0 * k2[r] + 2.0 * k3[r] + k4[r]));
+            let k2 = f(&step(&x, 0.5 * dt, &k1), u_at(s + 0.5 * dt));
+            let k3 = f(&step(&x, 0.5 * dt, &k2), u_at(s + 0.5 * dt));
+            let k4 = f(&step(&x, dt, &k3), u_at(s + dt));
+            for r in 0..n {
+                x[r] += dt / 6.0 * (k1[r] + 2.0 * k2[r] + 2.0 * k3[r] + k4[r]);
+            }
         }
     }
     y

@@ -5,6 +5,7 @@
 mod closed_form;
 mod errors;
 mod forced;
+mod forced_large;
 mod modal;
 mod oracles;
 mod propagator;
