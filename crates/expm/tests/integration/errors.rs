@@ -80,3 +80,41 @@ fn ill_conditioned_exponentials_are_flagged() {
     assert!(flag.condition > 1e9 && flag.error_bound > 1e-6, "{flag:?}");
     assert!(flag.to_string().contains("ill-conditioned"));
 }
+
+/// A forced propagator's own arguments: the count of ∂B (one per ∂A), D on a free decay, the
+/// count of ∂D and ∂C, a forced propagator run without its input, and an input of the wrong
+/// length or with a NaN — each a typed error naming the argument.
+#[test]
+fn forced_propagator_arguments_are_checked() {
+    let a = mat![[0.0, 1.0], [-4.0, -0.2]];
+    let da = mat![[0.0, 0.0], [-1.0, 0.0]];
+    let b = mat![[0.0], [1.0]];
+    let c = mat![[1.0, 0.0]];
+    let d = mat![[0.5]];
+    let (da, b_ref) = ([da.as_ref()], b.as_ref());
+    let name = |e: ExpmError| match e {
+        ExpmError::ShapeMismatch { name, .. } | ExpmError::NonFinite { name, .. } => name,
+        other => panic!("{other}"),
+    };
+    let forced = |db: &[faer::MatRef<'_, f64>]| {
+        expm::SensitivityPropagator::forced(a.as_ref(), &da, b_ref, db, c.as_ref(), 0.1, expm::Hold::Zero)
+    };
+    assert_eq!(name(forced(&[b_ref, b_ref]).unwrap_err()), "db");
+    let free = expm::SensitivityPropagator::new(a.as_ref(), &da, c.as_ref(), 0.1).unwrap();
+    assert_eq!(name(free.with_feedthrough(d.as_ref(), None).unwrap_err()), "d");
+    let prop = forced(&[b_ref]).unwrap();
+    assert_eq!(name(prop.clone().with_feedthrough(d.as_ref(), Some(&[])).unwrap_err()), "dd");
+    assert_eq!(name(prop.clone().with_output_derivatives(&[]).unwrap_err()), "dc");
+    let mut out = expm::Response::zeros(4, 1, 1);
+    assert_eq!(name(prop.propagate_into(&[0.0, 0.0], None, &mut out).unwrap_err()), "u");
+    let short = Mat::<f64>::zeros(3, 1);
+    assert_eq!(
+        name(prop.propagate_forced_into(&[0.0, 0.0], None, short.as_ref(), &mut out).unwrap_err()),
+        "u"
+    );
+    let nan = Mat::from_fn(4, 1, |k, _| if k == 2 { f64::NAN } else { 1.0 });
+    assert_eq!(name(prop.propagate_forced_into(&[0.0, 0.0], None, nan.as_ref(), &mut out).unwrap_err()), "u");
+    // And the same propagator, given what it asks for, answers.
+    let u = Mat::from_fn(4, 1, |k, _| k as f64);
+    assert!(prop.propagate_forced_into(&[0.0, 0.0], None, u.as_ref(), &mut out).is_ok());
+}
