@@ -1,6 +1,7 @@
 //! A model file (RON) of either kind: parsing and validation must answer Ok or a located error,
 //! never panic; a file that parses must export its modes (finite) and matrices, write itself back as a
-//! file that parses to the same parameters, and simulate a short free decay without a panic.
+//! file that parses to the same parameters, and simulate a short free decay without a panic —
+//! also after one parameter is set to an extreme value, as `--set` would.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
@@ -27,5 +28,20 @@ fuzz_target!(|data: &[u8]| {
     }
     if model.input_names().is_empty() {
         let _ = model.simulate(&mem::Grid::free(0.01), 16);
+    }
+    // `--set NAME=VALUE` with an extreme value: refused, or a model whose modes are finite and
+    // whose free decay simulates or reports a non-finite response.
+    if let (Some(&last), false) = (data.last(), names.is_empty()) {
+        const EXTREMES: [f64; 8] = [0.0, -0.0, 1e-300, -1e-300, 1e300, -1e300, 1e15, -1.0];
+        let mut changed = model.clone();
+        let name = &names[usize::from(last) % names.len()];
+        if changed.set(name, EXTREMES[usize::from(last / 32) % EXTREMES.len()]).is_ok() {
+            if let Ok(modes) = changed.modes() {
+                assert!(modes.iter().all(|m| m.frequency_hz.is_finite() && m.damping_ratio.is_finite()));
+            }
+            if changed.input_names().is_empty() {
+                let _ = changed.simulate(&mem::Grid::free(0.01), 16);
+            }
+        }
     }
 });
