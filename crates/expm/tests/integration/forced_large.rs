@@ -64,8 +64,8 @@ impl Chain {
     fn constant(&self) -> Matrices {
         let (m, n) = (self.masses, self.n());
         let a = Mat::from_fn(n, n, |i, j| if i < m && j == m + i { 1.0 } else { 0.0 });
-        let c =
-            Mat::from_fn(self.p(), n, |o, j| if self.displacements().get(o) == Some(&j) { 1.0 } else { 0.0 });
+        let shown = self.displacements();
+        let c = Mat::from_fn(self.p(), n, |o, j| if shown.get(o) == Some(&j) { 1.0 } else { 0.0 });
         Matrices { a, b: Mat::zeros(n, 1), c, d: Mat::zeros(self.p(), 1) }
     }
 

@@ -2,10 +2,9 @@
 //! model goes through too, CSV reading.
 
 mod csv;
-
-pub use csv::csv_header;
 mod decimate;
 
+pub use csv::csv_header;
 pub use decimate::Decimation;
 
 use crate::{Grid, MemError, ResponseModel};
