@@ -74,6 +74,17 @@ fn half_cycle_peaks(values: &[f64]) -> Vec<f64> {
 
 /// Localises the residual of a fit.
 pub fn localise(data: &Measurement, outcome: &FitOutcome) -> Localisation {
+    localise_under(data, outcome, None)
+}
+
+/// [`localise`] with the residual's resonances read under the noise `noise` says (per output,
+/// the predictor of its noise; [`crate::frf::resonances_under`]): on a forced record whose force
+/// is recorded with noise, the model's response to that noise is not taken for a mode.
+pub fn localise_under(
+    data: &Measurement,
+    outcome: &FitOutcome,
+    noise: Option<&[Option<mem::NoisePredictor>]>,
+) -> Localisation {
     let residual = outcome.first().residual();
     let (k, p) = (data.n_samples(), data.n_outputs());
     let weights = &outcome.first().weights;
@@ -137,7 +148,13 @@ pub fn localise(data: &Measurement, outcome: &FitOutcome) -> Localisation {
         (weighted(&|t, o| residual[(t, o)]), weighted(&|t, o| data.values()[(t, o)]));
     let (residual_modes, data_modes) = match driven {
         // One scan of the inputs' trial modes serves both series.
-        true => match crate::frf::resonances_of(data, &[&of_residual, &of_data]) {
+        true => match crate::frf::resonances_under(
+            data,
+            &[
+                crate::frf::Scanned { series: &of_residual, noise },
+                crate::frf::Scanned { series: &of_data, noise: None },
+            ],
+        ) {
             Some(mut both) => {
                 let of_data = both.pop().unwrap_or_default();
                 (both.pop().unwrap_or_default(), of_data)

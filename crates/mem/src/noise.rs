@@ -92,6 +92,15 @@ impl NoisePredictor {
         (m, self.coefficients(m).iter().zip(past).map(|(a, x)| a * x).sum())
     }
 
+    /// The scaled innovations of one unbroken series (as [`NoisePredictor::whiten`] with a
+    /// single segment): a linear, time-invariant map once past the first q samples, so a
+    /// regression whitened by it is the generalised least squares of this noise.
+    pub fn whitened(&self, series: &[f64]) -> Vec<f64> {
+        let mut out = series.to_vec();
+        self.whiten(&mut out, 0, 1, series.len(), |_| false);
+        out
+    }
+
     /// Whitens `values`, a series of `len` samples read at `offset + k·stride` (several series
     /// interleaved), to its scaled innovations in place: sample k is predicted from the samples
     /// since the last that starts a segment (`starts(k)`; sample 0 always does), at most q of
@@ -154,6 +163,20 @@ mod tests {
         // The very arithmetic of the AR(1) whitening this replaced: the same bits.
         assert_eq!(w, expected);
         assert!(NoisePredictor::ar1(1.0).is_none() && NoisePredictor::ar1(f64::NAN).is_none());
+    }
+
+    /// One series whitened whole is its innovations scaled as the likelihood sums them.
+    #[test]
+    fn a_whole_series_whitens_to_the_innovations_the_likelihood_squares() {
+        let p = NoisePredictor::of_autocovariance(&[2.0, 1.2, 0.3]).expect("positive definite");
+        let e = [0.3, -1.0, 0.8, 0.1, -0.4, 1.1];
+        let w = p.whitened(&e);
+        let mut past: Vec<f64> = Vec::new();
+        for (k, &x) in e.iter().enumerate() {
+            assert!((w[k].powi(2) - p.squared_innovation(x, &past)).abs() < 1e-12, "sample {k}");
+            past.insert(0, x);
+            past.truncate(p.order());
+        }
     }
 
     #[test]

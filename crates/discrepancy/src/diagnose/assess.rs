@@ -11,7 +11,7 @@ use super::run::{Fitted, Folds};
 use super::{Candidate, DiagnoseOptions, Observe, force_noise, score};
 use crate::WorkflowError;
 use crate::frf::InputNoise;
-use crate::localise::{Localisation, localise};
+use crate::localise::{Localisation, localise_under};
 use mem::Measurement;
 use plant::EffectKind;
 
@@ -59,7 +59,13 @@ impl Assess<'_> {
     /// A record too short for the largest refit, and failures of the lattice's reading.
     pub(super) fn run(&self) -> Result<Assessment, WorkflowError> {
         let Assess { reference, free, raw, data, folds, options, observer } = *self;
-        let localisation = localise(data, &reference.outcome);
+        // On a forced record, the residual's resonances are read under the noise the reference's
+        // residual shows: where the force's noise colours it, its response at the modelled
+        // modes is noise, not a mode the model lacks (the seeds of the unmodeled modes).
+        let prior = data.inputs().map(|_| score::measurement_model(&reference.outcome, data));
+        let whiten =
+            prior.as_ref().map(|n| n.predictors.as_slice()).filter(|p| p.iter().any(Option::is_some));
+        let localisation = localise_under(data, &reference.outcome, whiten);
         let start = reference.outcome.fitted.clone();
         let wanted = |kind: EffectKind| options.only.is_empty() || options.only.contains(&kind);
         let trials: Vec<Trial> =

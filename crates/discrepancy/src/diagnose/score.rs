@@ -262,7 +262,7 @@ fn own_structure(noise: &NoiseModel, outcome: &FitOutcome, data: &Measurement, s
 
 /// The measurement model read from one fit's residual: ρ per output, and on a forced record the
 /// predictors of the noise its recorded force's noise leaves ([`force_noise::predictors`]).
-fn measurement_model(best: &FitOutcome, data: &Measurement) -> NoiseModel {
+pub(super) fn measurement_model(best: &FitOutcome, data: &Measurement) -> NoiseModel {
     let noise = NoiseModel::of(&best.first().residual());
     match force_noise::read(best, data) {
         Some(read) => with_force_noise(noise, &read),

@@ -27,7 +27,7 @@ pub use input_noise::{InputNoise, InputNoiseLevel, RecordedInputs, input_noise};
 
 use era::EraMode;
 use faer::Mat;
-use mem::Measurement;
+use mem::{Measurement, NoisePredictor};
 
 /// The share of the inputs' largest auto-spectrum above which a frequency counts as excited.
 pub const EXCITED: f64 = 1e-2;
@@ -72,8 +72,30 @@ pub fn resonances(data: &Measurement, series: &Mat<f64>) -> Option<Vec<EraMode>>
 /// trial modes depend on the inputs alone, so each is driven once and projected on every series.
 /// One list per series, in their order; `None` as for [`resonances`].
 pub fn resonances_of(data: &Measurement, series: &[&Mat<f64>]) -> Option<Vec<Vec<EraMode>>> {
+    let plain: Vec<Scanned<'_>> = series.iter().map(|s| Scanned { series: s, noise: None }).collect();
+    resonances_under(data, &plain)
+}
+
+/// A series to scan, and the noise it is read under: per output, the predictor whose
+/// innovations are white (`None` for the whole series, or for an output: white noise).
+#[derive(Clone, Copy)]
+pub struct Scanned<'a> {
+    /// The series (K × p, the outputs already weighted).
+    pub series: &'a Mat<f64>,
+    /// Per output, the noise's predictor ([`NoisePredictor`]).
+    pub noise: Option<&'a [Option<NoisePredictor>]>,
+}
+
+/// [`resonances_of`] with each series read under its noise: where an output's noise has a
+/// predictor, both the series and the trial mode's response are whitened by it before the
+/// projection, so the gain is the generalised least squares' (the matched filter in coloured
+/// noise). On a forced record whose force is recorded with noise, the model's response to that
+/// noise peaks at the modelled modes, and a trial mode there — driven by the same noisy force —
+/// matches part of it; under the noise's own spectrum it gains only by chance, and an unmodelled
+/// mode's resonance elsewhere stands out.
+pub fn resonances_under(data: &Measurement, series: &[Scanned<'_>]) -> Option<Vec<Vec<EraMode>>> {
     let inputs = data.inputs()?;
-    let k = series.iter().map(|s| s.nrows()).min()?;
+    let k = series.iter().map(|s| s.series.nrows()).min()?;
     let m = inputs.names().len();
     if m == 0 || k < 64 {
         return None;
@@ -85,13 +107,33 @@ pub fn resonances_of(data: &Measurement, series: &[&Mat<f64>]) -> Option<Vec<Vec
         return none();
     };
     let columns: Vec<Vec<f64>> = (0..m).map(|i| (0..k).map(|t| held[(t, i)]).collect()).collect();
+    // Each series' columns as scanned: whitened by their output's predictor where it has one.
+    let whitened: Vec<Vec<Vec<f64>>> = series
+        .iter()
+        .map(|s| {
+            (0..s.series.ncols())
+                .map(|o| {
+                    let column: Vec<f64> = (0..k).map(|t| s.series[(t, o)]).collect();
+                    match predictor_of(s, o) {
+                        Some(p) => p.whitened(&column),
+                        None => column,
+                    }
+                })
+                .collect()
+        })
+        .collect();
     // Each series' gain at (f, ζ), summed over the inputs' trial modes.
     let gains = |f: f64, zeta: f64| -> Vec<f64> {
         let mut g = vec![0.0; series.len()];
         for x in columns.iter().filter_map(|u| scan::trial_response(f, zeta, h, u)) {
-            let q = scan::basis(&x);
-            for (gs, s) in g.iter_mut().zip(series) {
-                *gs += scan::explained(s, &q);
+            let plain = scan::basis(&x);
+            for ((gs, s), cols) in g.iter_mut().zip(series).zip(&whitened) {
+                for (o, col) in cols.iter().enumerate() {
+                    *gs += match predictor_of(s, o) {
+                        Some(p) => scan::explained_column(col, &scan::basis(&scan::whitened(&x, p))),
+                        None => scan::explained_column(col, &plain),
+                    };
+                }
             }
         }
         g
@@ -129,6 +171,11 @@ pub fn resonances_of(data: &Measurement, series: &[&Mat<f64>]) -> Option<Vec<Vec
             })
             .collect(),
     )
+}
+
+/// Output o's noise predictor in a scanned series, if it has one.
+fn predictor_of<'a>(s: &Scanned<'a>, o: usize) -> Option<&'a NoisePredictor> {
+    s.noise.and_then(|n| n.get(o)).and_then(Option::as_ref)
 }
 
 /// The resonances of one gain curve `g` over `grid`: its local maxima standing [`PROMINENCE`]
@@ -188,7 +235,7 @@ fn excited_band(held: &Mat<f64>, k: usize, h: f64) -> Option<(f64, f64)> {
 
 #[cfg(test)]
 pub(super) mod tests {
-    use super::resonances;
+    use super::{Scanned, resonances, resonances_under};
     use faer::Mat;
     use mem::{Hold, Measurement};
 
@@ -288,5 +335,50 @@ pub(super) mod tests {
         let peaks = resonances(&data, &series).unwrap();
         assert!(!peaks.is_empty());
         assert!((peaks[0].frequency_hz / f - 1.0).abs() < 0.01, "{peaks:?}");
+    }
+
+    /// The sample autocovariance γ₀…γ_lags of `x`.
+    fn sample_autocovariance(x: &[f64], lags: usize) -> Vec<f64> {
+        (0..=lags).map(|l| x.iter().zip(&x[l..]).map(|(a, b)| a * b).sum::<f64>() / x.len() as f64).collect()
+    }
+
+    /// Errors in variables: the recorded force u + e carries noise e, and the residual holds a
+    /// modelled mode's response to it (6 Hz, 1 % damping) beside the sensor's white noise and a
+    /// weak mode the model lacks (15 Hz) driven by the true force. A trial mode at 6 Hz driven by
+    /// the recorded force matches part of the noise's response, and the plain scan puts it first;
+    /// read under the noise's own predictor (of the sample autocovariance of a long realisation
+    /// of that noise alone, another seed), the missing mode is first and 6 Hz is not found.
+    #[test]
+    fn under_the_noise_of_the_recorded_force_its_response_is_not_a_mode() {
+        let (h, k) = (0.005, 4000);
+        let rms = |x: &[f64]| (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt();
+        let unit = |x: Vec<f64>| {
+            let r = rms(&x);
+            x.into_iter().map(|v| v / r).collect::<Vec<f64>>()
+        };
+        let noise_of = |e: &[f64], v: &[f64]| -> Vec<f64> {
+            let response = unit(driven_oscillator(6.0, 0.01, h, e));
+            response.iter().zip(v).map(|(g, v)| 3.0 * g + v).collect()
+        };
+        let u = normals(21, k);
+        let e: Vec<f64> = normals(22, k).iter().map(|v| 0.05 * v).collect();
+        let recorded: Vec<f64> = u.iter().zip(&e).map(|(a, b)| a + b).collect();
+        let missing = unit(driven_oscillator(15.0, 0.01, h, &u));
+        let noise = noise_of(&e, &normals(23, k));
+        let y: Vec<f64> = noise.iter().zip(&missing).map(|(n, m)| -n + 0.3 * m).collect();
+        let data = forced_record(&recorded, &y, h);
+        let series = Mat::from_fn(k, 1, |t, _| y[t]);
+        let plain = resonances(&data, &series).unwrap();
+        assert!((plain[0].frequency_hz / 6.0 - 1.0).abs() < 0.05, "{plain:?}");
+        // The noise model: a long realisation of the noise alone, other seeds.
+        let long = 40_000;
+        let alone = noise_of(&normals(24, long), &normals(25, long));
+        let predictor = mem::NoisePredictor::of_autocovariance(&sample_autocovariance(&alone, 60));
+        let noise = [predictor];
+        let under = resonances_under(&data, &[Scanned { series: &series, noise: Some(&noise) }]).unwrap();
+        let first = &under[0];
+        assert!(!first.is_empty());
+        assert!((first[0].frequency_hz / 15.0 - 1.0).abs() < 0.01, "{first:?}");
+        assert!(first.iter().all(|m| (m.frequency_hz / 6.0 - 1.0).abs() > 0.05), "{first:?}");
     }
 }

@@ -9,6 +9,7 @@
 //! of the two columns (modified Gram–Schmidt; no normal equations are formed).
 
 use faer::Mat;
+use mem::NoisePredictor;
 
 /// The response [η, η̇/ω] (K × 2) of the trial mode at `f` Hz and damping ratio `zeta` to the
 /// input column `u` (K samples, held over each interval of `h` s), from rest; `None` when the
@@ -66,13 +67,29 @@ pub(super) fn basis(regressors: &Mat<f64>) -> Vec<Vec<f64>> {
 
 /// Σ_o ‖Q₂ᵀ r_o‖² for the columns r_o of `series` (K × p) and an orthonormal `basis` Q₂
 /// ([`basis`]).
-pub(super) fn explained(series: &Mat<f64>, basis: &[Vec<f64>]) -> f64 {
-    let k = basis.iter().map(Vec::len).fold(series.nrows(), usize::min);
+#[cfg(test)]
+fn explained(series: &Mat<f64>, basis: &[Vec<f64>]) -> f64 {
     (0..series.ncols())
-        .map(|o| {
-            basis.iter().map(|q| (0..k).map(|t| q[t] * series[(t, o)]).sum::<f64>().powi(2)).sum::<f64>()
-        })
+        .map(|o| explained_column(&(0..series.nrows()).map(|t| series[(t, o)]).collect::<Vec<f64>>(), basis))
         .sum()
+}
+
+/// ‖Q₂ᵀ r‖² for one series `column` and an orthonormal `basis` Q₂ ([`basis`]).
+pub(super) fn explained_column(column: &[f64], basis: &[Vec<f64>]) -> f64 {
+    basis.iter().map(|q| q.iter().zip(column).map(|(a, b)| a * b).sum::<f64>().powi(2)).sum()
+}
+
+/// The columns of `regressors` whitened by `predictor` ([`NoisePredictor::whitened`]).
+pub(super) fn whitened(regressors: &Mat<f64>, predictor: &NoisePredictor) -> Mat<f64> {
+    let k = regressors.nrows();
+    let mut out = Mat::zeros(k, regressors.ncols());
+    for c in 0..regressors.ncols() {
+        let column: Vec<f64> = (0..k).map(|t| regressors[(t, c)]).collect();
+        for (t, v) in predictor.whitened(&column).into_iter().enumerate() {
+            out[(t, c)] = v;
+        }
+    }
+    out
 }
 
 #[cfg(test)]

@@ -103,15 +103,20 @@ impl Diagnosis {
             .map(|i| format!("`{}` about {:.3e} ({:.2} % of its RMS)", i.input, i.rms, 100.0 * i.share))
             .collect();
         // Its response through the model, part of the measurement model.
-        let coloured = if self.noise.predictor_order.iter().any(|&q| q > 0) {
-            "; its response through the model is part of the noise every candidate is scored under (the \
-             spectrum it and the sensor's noise leave, predicted to order 20), so matching it earns nothing"
+        let orders: Vec<String> =
+            self.noise.predictor_order.iter().filter(|&&q| q > 0).map(usize::to_string).collect();
+        let coloured = if orders.is_empty() {
+            String::new()
         } else {
-            ""
+            format!(
+                "; its response through the model is part of the noise every candidate is scored under (the \
+                 spectrum it and the sensor's noise leave, predicted to order {}), so matching it earns nothing",
+                orders.join(" and ")
+            )
         };
         Some(format!(
             "noise on the recorded input{}: {}; it accounts for {:.0} % of the best-fitting residual, and an \
-             effect acting through the dynamics, or a sensor's scale or crosstalk, must remove at least {:.0} % \
+             effect acting through the dynamics must remove at least {:.0} % \
              of what it accounts for in the residual its refit leaves, unless it gains more than {:.0} nats held \
              out{coloured}",
             if levels.len() == 1 { "" } else { "s" },
