@@ -86,6 +86,13 @@ impl NoisePredictor {
         (e - predicted).powi(2) * (self.errors[self.order()] / self.errors[m])
     }
 
+    /// The unscaled prediction error e − Σ_i a_m,i past_i of order m = min(len(past), q): the
+    /// error of the order-m predictor itself, not the order-q innovation
+    /// [`NoisePredictor::scaled_innovation`] scales it to.
+    pub fn prediction_error(&self, e: f64, past: &[f64]) -> f64 {
+        e - self.prediction(past).1
+    }
+
     /// The order m used for `past` and the prediction Σ_i a_m,i past_i.
     fn prediction(&self, past: &[f64]) -> (usize, f64) {
         let m = past.len().min(self.order());
@@ -163,6 +170,20 @@ mod tests {
         // The very arithmetic of the AR(1) whitening this replaced: the same bits.
         assert_eq!(w, expected);
         assert!(NoisePredictor::ar1(1.0).is_none() && NoisePredictor::ar1(f64::NAN).is_none());
+    }
+
+    /// The order-m error is the order-m predictor's own: unscaled, and the order-q innovation
+    /// is it scaled by v_q/v_m.
+    #[test]
+    fn a_short_past_gives_the_short_predictors_own_error() {
+        let p = NoisePredictor::of_autocovariance(&[2.0, 1.2, 0.3, -0.2]).expect("positive definite");
+        let (e, past) = (0.7, [0.4, -0.9]);
+        let a = p.coefficients(2);
+        let expected = e - a[0] * past[0] - a[1] * past[1];
+        assert!((p.prediction_error(e, &past) - expected).abs() < 1e-15);
+        let scaled = expected * expected * p.error_variance(3) / p.error_variance(2);
+        assert!((p.squared_innovation(e, &past) - scaled).abs() < 1e-14);
+        assert!(p.error_variance(3) < p.error_variance(2));
     }
 
     /// One series whitened whole is its innovations scaled as the likelihood sums them.

@@ -221,7 +221,10 @@ const STRUCTURE_LAGS: usize = 20;
 /// the noise model's own prediction, less the 10 nats white noise gains by chance (half a χ²
 /// with 20 degrees of freedom), summed over the outputs and floored at 0. The noise model's
 /// prediction is the better (smaller sum of squared innovations) of AR(1), ρ_o e_{k−1}, and the
-/// output's [`Predictor`] where it has one: the predictor's spectrum is read from the force's
+/// output's [`Predictor`] where it has one, taken at order 20 as the residual's autoregression is
+/// (its error unscaled; the thirty-fifth session's longer predictors scaled it by their own
+/// order's error, 5–7 % below order 20's, and took some 60 nats off every residual's
+/// structure): the predictor's spectrum is read from the force's
 /// noise, and where that read is above what a residual holds, a residual of sensor noise alone
 /// would score as structure beyond it (seen on the forced draw 20261312: a softening spring's
 /// refit left 2 % of the residual and was scored as explaining 27 % of its structure). A misfit
@@ -259,7 +262,9 @@ pub fn structure_per_output(residual: &Mat<f64>, noise: &NoiseModel) -> Vec<f64>
                         .map(|r| {
                             past.clear();
                             past.extend((0..predictor.order().min(STRUCTURE_LAGS)).map(|l| x[(r, l)]));
-                            predictor.squared_innovation(y[(r, 0)], &past)
+                            // The noise's own predictor of the same order as the residual's
+                            // autoregression, its error unscaled: like against like.
+                            predictor.prediction_error(y[(r, 0)], &past).powi(2)
                         })
                         .sum();
                     predicted.min(ar1)

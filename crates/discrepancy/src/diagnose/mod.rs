@@ -168,7 +168,9 @@ pub use answer::{
     RIVAL_MARGIN, Rival, SaturationKnee, ScaleChoice, SecondaryMismatch, SpringForm, SpringTerm, StaticPeak,
     TimeLaw, Verdict,
 };
-pub use force_noise::{FORCE_NOISE_EXEMPT, FORCE_NOISE_SHARE};
+pub use force_noise::{
+    FORCE_NOISE_EXEMPT, FORCE_NOISE_SHARE, MAX_PREDICTOR_ORDER, PREDICTOR_CONVERGED, PREDICTOR_ORDER,
+};
 pub use options::{
     DEFAULT_FILE_TOLERANCE, DEFAULT_THRESHOLD, DiagnoseOptions, MIN_MODE_STRUCTURE_EXPLAINED,
     MIN_SENSOR_STRUCTURE_EXPLAINED, MIN_SPRING_STRUCTURE_EXPLAINED, MIN_STRUCTURE_EXPLAINED,

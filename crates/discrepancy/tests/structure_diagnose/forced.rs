@@ -195,7 +195,13 @@ fn set_aside_for_the_damping(case: &str, effect: &str) -> discrepancy::Diagnosis
 #[test]
 fn the_force_noise_is_part_of_the_measurement_model_and_an_offset_behind_it_is_named() {
     let noisy = run("null_noisy_force");
-    assert!(noisy.noise.predictor_order.iter().all(|&q| q == 20), "{:?}", noisy.noise.predictor_order);
+    // Of the order at which the predictor's error converges: more lags than the least, for a
+    // response that rings at modes damped about 1 % (force_noise::predictor_of).
+    assert!(
+        noisy.noise.predictor_order.iter().all(|&q| q > discrepancy::diagnose::PREDICTOR_ORDER),
+        "{:?}",
+        noisy.noise.predictor_order
+    );
     assert!(
         noisy.answer().iter().any(|s| s.contains("so matching it earns nothing")),
         "{:?}",
@@ -237,7 +243,11 @@ fn a_mode_that_only_damps_a_modelled_one_is_a_damping_mismatch() {
 /// the RMS-weighted error, with an AR(1) standard error, the true spring's asymmetric term was
 /// resolved at z 6.9 while it gained 3.7 nats, and the spring was set aside; and the storey's
 /// change with time was demanded at z 15 with a gain of −1.9 nats. Now the spring is named, and
-/// the loss of stiffness is set aside by a term that gains as well as it is resolved.
+/// the spring that stands in for the loss of stiffness is set aside as a stiffness that changes
+/// with time. Under the predictor of 20 lags the stand-in gained 162 nats in sample and its
+/// rate term 17.0 beside it; under the predictor run to its error's convergence (orders 106 and
+/// 95 here) the stand-in gains 45 nats, its rate term 9.95 (z 3.9, not demanded), and a storey
+/// stiffness's law in time explains the record as well as it does (73.1 against 73.4 nats).
 #[test]
 fn on_a_noisy_force_a_springs_form_terms_are_weighed_under_the_noises_spectrum() {
     let spring = run("study_softening_noisy_force");
@@ -251,12 +261,10 @@ fn on_a_noisy_force_a_springs_form_terms_are_weighed_under_the_noises_spectrum()
         loss.candidates.iter().find(|c| c.verdict == Verdict::TimeVarying).expect("a spring set aside");
     assert_eq!(set_aside.label, "cubic_stiffness(q3)");
     let changing = &loss.spring.as_ref().expect("the spring's form tested").changing;
-    let z = changing.parameter.value.abs() / changing.parameter.std_error.expect("determined");
-    // Resolved, a loss (k₁′ < 0), and earning its gain under the same likelihood.
-    assert!(
-        changing.demanded && changing.parameter.value < 0.0 && changing.gain > 10.0,
-        "{changing:?}, z {z}"
-    );
+    // A loss (k₁′ < 0) beside the spring, or a law in time in its place that explains as well.
+    assert!(changing.parameter.value < 0.0, "{changing:?}");
+    let law = loss.time_law.as_ref().is_some_and(|t| t.as_well);
+    assert!(changing.demanded || law, "{changing:?} {:?}", loss.answer());
 }
 
 /// A record of the forced draw 20261316 (`A_appendage_strong_s1`, copied as
