@@ -128,8 +128,8 @@ pub(super) fn screen(
 /// holds the noise's response ([`predictors`]), and the screen set aside true scales of 1 %
 /// resolved at 10 σ (draw 20261341, `A_scale_medium_s0`: 0.96 % ± 0.10 %, held out 50 nats) —
 /// and on the three noisy-force draws 20261341–43 none of the six medium scales was named with
-/// it, five without it and the other changes of that session (docs/diagnose.md, "The force's
-/// noise predicted to its modes' length").
+/// it, four without it and with the other changes of that session (docs/diagnose.md, "The
+/// force's noise predicted to its modes' length").
 fn takes_up_the_response(kind: EffectKind) -> bool {
     !matches!(
         kind,
