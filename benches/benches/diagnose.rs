@@ -137,6 +137,24 @@ fn bench_forced(c: &mut Criterion) {
     group.bench_function("frf/resonances_forced_2001", |b| {
         b.iter(|| discrepancy::frf::resonances(black_box(&data), &series))
     });
+    // The same scan read under per-output noise predictors of 80 lags (a resonant noise of the
+    // force's kind: AR(2) poles at 3.5 Hz, 0.5 % damping, above a white floor), as a forced
+    // record with noise on its force is scanned (`frf::resonances_under`).
+    let (w, r) = (2.0 * std::f64::consts::PI * 3.5 * data.interval(), 1.0 - 0.005 * 0.11);
+    let (a1, a2) = (2.0 * r * w.cos(), -r * r);
+    let mut rho = vec![1.0, a1 / (1.0 - a2)];
+    for l in 2..=80 {
+        rho.push(a1 * rho[l - 1] + a2 * rho[l - 2]);
+    }
+    let mut gamma: Vec<f64> = rho.iter().map(|p| 1e-4 * p).collect();
+    gamma[0] += 1.0;
+    let predictor = mem::NoisePredictor::of_autocovariance(&gamma).expect("positive definite");
+    let noise = vec![Some(predictor); data.n_outputs()];
+    let under = [discrepancy::frf::Scanned { series: &series, noise: Some(&noise) }];
+    assert!(discrepancy::frf::resonances_under(&data, &under).is_some());
+    group.bench_function("frf/resonances_under_noise_forced_2001", |b| {
+        b.iter(|| discrepancy::frf::resonances_under(black_box(&data), &under))
+    });
     // The force's noise read from a residual (once per diagnosis and once per candidate that
     // acts through the dynamics); its cost does not depend on the values, so the record stands
     // for both the simulation and the residual.
