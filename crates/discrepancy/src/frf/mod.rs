@@ -18,6 +18,13 @@
 //! 50 and 52 Hz (refitted at 36 and 46 Hz) on a roof-driven record, low-passed at 40 Hz, whose
 //! appendage rang at 21 Hz. (A least-squares impulse
 //! response fed to ERA, tried before that, rang at a swept sine's last frequency.)
+//!
+//! Where the series' noise is coloured and its predictor known ([`resonances_under`]: a forced
+//! record whose recorded force carries noise, which the model's resonances colour), the series
+//! and each trial mode's response are whitened by that predictor before the projection: the
+//! generalized matched filter (prewhitening; Kay, *Fundamentals of Statistical Signal Processing,
+//! Vol. II: Detection Theory*, 1998, ch. 4), whose chance gain is the same at every frequency as
+//! it is for the plain scan in white noise.
 
 mod input_noise;
 mod scan;
