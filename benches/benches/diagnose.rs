@@ -140,13 +140,9 @@ fn bench_forced(c: &mut Criterion) {
     // The same scan read under per-output noise predictors of 80 lags (a resonant noise of the
     // force's kind: AR(2) poles at 3.5 Hz, 0.5 % damping, above a white floor), as a forced
     // record with noise on its force is scanned (`frf::resonances_under`).
-    let (w, r) = (2.0 * std::f64::consts::PI * 3.5 * data.interval(), 1.0 - 0.005 * 0.11);
-    let (a1, a2) = (2.0 * r * w.cos(), -r * r);
-    let mut rho = vec![1.0, a1 / (1.0 - a2)];
-    for l in 2..=80 {
-        rho.push(a1 * rho[l - 1] + a2 * rho[l - 2]);
-    }
-    let mut gamma: Vec<f64> = rho.iter().map(|p| 1e-4 * p).collect();
+    let w = 2.0 * std::f64::consts::PI * 3.5 * data.interval();
+    let ar2 = test_problems::Ar2::resonance(1.0 - 0.005 * 0.11, w);
+    let mut gamma = ar2.autocovariance(80, 1e-4);
     gamma[0] += 1.0;
     let predictor = mem::NoisePredictor::of_autocovariance(&gamma).expect("positive definite");
     let noise = vec![Some(predictor); data.n_outputs()];

@@ -2,10 +2,12 @@
 //! models the tests check. Every generator takes an explicit seed; `StdRng` is ChaCha-based and
 //! gives the same stream on every platform.
 
+mod ar2;
 mod building;
 mod modal;
 mod oscillators;
 
+pub use ar2::Ar2;
 pub use building::{HandDerivedBuilding, ShearBuilding};
 pub use modal::{ForcedFamily, ModalFamily, simulate_forced};
 pub use oscillators::{ProductOscillator, SpringChain, simulate_measurement};

@@ -396,17 +396,8 @@ mod tests {
     /// coefficients, and its one-sided spectrum on `bins` Welch bins with a white `floor` of
     /// standard deviation `floor` beside it.
     fn resonance(bins: usize, floor: f64) -> ((f64, f64), Vec<f64>) {
-        let (radius, omega) = (0.97, 2.0 * std::f64::consts::PI * 0.05);
-        let (a1, a2) = (2.0 * radius * omega.cos(), -radius * radius);
-        let levels = (0..bins)
-            .map(|b| {
-                let w = std::f64::consts::PI * b as f64 / bins as f64;
-                let (re, im) =
-                    (1.0 - a1 * w.cos() - a2 * (2.0 * w).cos(), a1 * w.sin() + a2 * (2.0 * w).sin());
-                1.0 / (re * re + im * im) + floor * floor
-            })
-            .collect();
-        ((a1, a2), levels)
+        let ar2 = test_problems::Ar2::resonance(0.97, 2.0 * std::f64::consts::PI * 0.05);
+        ((ar2.a1, ar2.a2), ar2.spectrum(bins, 1.0, floor * floor))
     }
 
     /// White noise scored under a predictor read for a resonant spectrum (AR(2) poles at 0.98,

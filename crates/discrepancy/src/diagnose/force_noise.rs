@@ -287,22 +287,6 @@ mod tests {
         assert!(noise_structure(&response, 10.0, 0.1, n) < alone / 2.0);
     }
 
-    /// AR(2) poles at radius r and angle ω (a resonance of damping ratio about (1 − r)/ω) driven
-    /// by innovations of variance `s2`, and its one-sided spectrum on `bins` Welch bins with a
-    /// white floor of unit level.
-    fn ringing(bins: usize, r: f64, omega: f64, s2: f64) -> ((f64, f64), Vec<f64>) {
-        let (a1, a2) = (2.0 * r * omega.cos(), -r * r);
-        let levels = (0..bins)
-            .map(|b| {
-                let w = std::f64::consts::PI * b as f64 / bins as f64;
-                let (re, im) =
-                    (1.0 - a1 * w.cos() - a2 * (2.0 * w).cos(), a1 * w.sin() + a2 * (2.0 * w).sin());
-                s2 / (re * re + im * im) + 1.0
-            })
-            .collect();
-        ((a1, a2), levels)
-    }
-
     /// Order by convergence: for a white floor the least order; for a lightly damped resonance
     /// (3.5 Hz at 200 Hz, 0.5 % damping; 10⁴ times the floor at its peak and about the floor's
     /// level at zero frequency, as a displacement's response to a force's white noise is
@@ -317,7 +301,9 @@ mod tests {
         let omega = 2.0 * std::f64::consts::PI * 3.5 / 200.0;
         let r = 1.0 - 0.005 * omega;
         let s2 = 1.5e-4;
-        let ((a1, a2), levels) = ringing(250, r, omega, s2);
+        let ar2 = test_problems::Ar2::resonance(r, omega);
+        let (a1, a2) = (ar2.a1, ar2.a2);
+        let levels = ar2.spectrum(250, s2, 1.0);
         let chosen = predictor_of(&levels).expect("a resonant spectrum");
         assert!(chosen.order() > PREDICTOR_ORDER, "order {}", chosen.order());
         let longest = Predictor::of_autocovariance(&autocovariance(&levels, 120)).expect("positive definite");
@@ -327,13 +313,7 @@ mod tests {
         );
         // The exact autocovariance of x_k = a1 x_{k−1} + a2 x_{k−2} + u_k (var u = s2) plus the
         // floor's white noise: the Welch bins' unit level is a variance of 1 (bins/bins).
-        let lags = 400;
-        let mut rho = vec![1.0, a1 / (1.0 - a2)];
-        for l in 2..=lags {
-            rho.push(a1 * rho[l - 1] + a2 * rho[l - 2]);
-        }
-        let g0 = s2 / (1.0 - a1 * rho[1] - a2 * rho[2]);
-        let mut gamma: Vec<f64> = rho.iter().map(|p| g0 * p).collect();
+        let mut gamma = ar2.autocovariance(400, s2);
         gamma[0] += 1.0;
         let exact = Predictor::of_autocovariance(&gamma).expect("positive definite");
         // A realisation, and a drift of 0.6 of the floor's RMS over the record.

@@ -129,16 +129,37 @@ pub fn resonances_under(data: &Measurement, series: &[Scanned<'_>]) -> Option<Ve
                 .collect()
         })
         .collect();
+    // Per series and output with a predictor, each input through that predictor's error filter,
+    // once: a trial mode driven by it is the mode's whitened response (`scan::whitened_response`).
+    let filtered: Vec<Vec<Option<Vec<Vec<f64>>>>> = series
+        .iter()
+        .map(|s| {
+            (0..s.series.ncols())
+                .map(|o| {
+                    predictor_of(s, o).map(|p| columns.iter().map(|u| scan::error_filtered(u, p)).collect())
+                })
+                .collect()
+        })
+        .collect();
+    let plain_needed = filtered.iter().flatten().any(Option::is_none);
     // Each series' gain at (f, ζ), summed over the inputs' trial modes.
     let gains = |f: f64, zeta: f64| -> Vec<f64> {
         let mut g = vec![0.0; series.len()];
-        for x in columns.iter().filter_map(|u| scan::trial_response(f, zeta, h, u)) {
-            let plain = scan::basis(&x);
-            for ((gs, s), cols) in g.iter_mut().zip(series).zip(&whitened) {
+        let Some(mode) = scan::TrialMode::new(f, zeta, h) else { return g };
+        for (i, u) in columns.iter().enumerate() {
+            let Some(x) = mode.respond(u) else { continue };
+            let plain = if plain_needed { scan::basis(&x) } else { Vec::new() };
+            for (((gs, s), cols), inputs) in g.iter_mut().zip(series).zip(&whitened).zip(&filtered) {
                 for (o, col) in cols.iter().enumerate() {
-                    *gs += match predictor_of(s, o) {
-                        Some(p) => scan::explained_column(col, &scan::basis(&scan::whitened(&x, p))),
-                        None => scan::explained_column(col, &plain),
+                    *gs += match (predictor_of(s, o), &inputs[o]) {
+                        (Some(p), Some(by)) => match mode.respond(&by[i]) {
+                            Some(driven) => scan::explained_column(
+                                col,
+                                &scan::basis(&scan::whitened_response(&x, driven, p)),
+                            ),
+                            None => 0.0,
+                        },
+                        _ => scan::explained_column(col, &plain),
                     };
                 }
             }

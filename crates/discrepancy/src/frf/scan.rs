@@ -14,33 +14,53 @@ use mem::NoisePredictor;
 /// The response [η, η̇/ω] (K × 2) of the trial mode at `f` Hz and damping ratio `zeta` to the
 /// input column `u` (K samples, held over each interval of `h` s), from rest; `None` when the
 /// one-step map cannot be computed (a frequency or interval that is not finite and positive).
-pub(super) fn trial_response(f: f64, zeta: f64, h: f64, u: &[f64]) -> Option<Mat<f64>> {
-    let w = 2.0 * std::f64::consts::PI * f;
-    if !(w.is_finite() && w > 0.0 && h.is_finite() && h > 0.0) {
-        return None;
-    }
-    // States [η, η̇/ω]: d/dt η = ω (η̇/ω); d/dt (η̇/ω) = −ω η − 2ζω (η̇/ω) + ω u.
-    let a = Mat::from_fn(3, 3, |r, c| {
-        h * match (r, c) {
-            (0, 1) => w,
-            (1, 0) => -w,
-            (1, 1) => -2.0 * zeta * w,
-            (1, 2) => w,
-            _ => 0.0,
+#[cfg(test)]
+fn trial_response(f: f64, zeta: f64, h: f64, u: &[f64]) -> Option<Mat<f64>> {
+    TrialMode::new(f, zeta, h)?.respond(u)
+}
+
+/// The trial mode at one frequency and damping: its one-step map, computed once and driven by
+/// as many inputs as asked.
+pub(super) struct TrialMode {
+    phi: Mat<f64>,
+}
+
+impl TrialMode {
+    /// The mode at `f` Hz and damping ratio `zeta`, stepped every `h` s; `None` when its one-step
+    /// map cannot be computed (a frequency or interval that is not finite and positive).
+    pub(super) fn new(f: f64, zeta: f64, h: f64) -> Option<Self> {
+        let w = 2.0 * std::f64::consts::PI * f;
+        if !(w.is_finite() && w > 0.0 && h.is_finite() && h > 0.0) {
+            return None;
         }
-    });
-    let phi = expm::expm(a.as_ref()).ok()?;
-    let mut x = [0.0, 0.0];
-    let mut response = Mat::zeros(u.len(), 2);
-    for (t, &ut) in u.iter().enumerate() {
-        response[(t, 0)] = x[0];
-        response[(t, 1)] = x[1];
-        x = [
-            phi[(0, 0)] * x[0] + phi[(0, 1)] * x[1] + phi[(0, 2)] * ut,
-            phi[(1, 0)] * x[0] + phi[(1, 1)] * x[1] + phi[(1, 2)] * ut,
-        ];
+        // States [η, η̇/ω]: d/dt η = ω (η̇/ω); d/dt (η̇/ω) = −ω η − 2ζω (η̇/ω) + ω u.
+        let a = Mat::from_fn(3, 3, |r, c| {
+            h * match (r, c) {
+                (0, 1) => w,
+                (1, 0) => -w,
+                (1, 1) => -2.0 * zeta * w,
+                (1, 2) => w,
+                _ => 0.0,
+            }
+        });
+        Some(Self { phi: expm::expm(a.as_ref()).ok()? })
     }
-    x.iter().all(|v| v.is_finite()).then_some(response)
+
+    /// Its response to `u` from rest; `None` where it is not finite.
+    pub(super) fn respond(&self, u: &[f64]) -> Option<Mat<f64>> {
+        let phi = &self.phi;
+        let mut x = [0.0, 0.0];
+        let mut response = Mat::zeros(u.len(), 2);
+        for (t, &ut) in u.iter().enumerate() {
+            response[(t, 0)] = x[0];
+            response[(t, 1)] = x[1];
+            x = [
+                phi[(0, 0)] * x[0] + phi[(0, 1)] * x[1] + phi[(0, 2)] * ut,
+                phi[(1, 0)] * x[0] + phi[(1, 1)] * x[1] + phi[(1, 2)] * ut,
+            ];
+        }
+        x.iter().all(|v| v.is_finite()).then_some(response)
+    }
 }
 
 /// An orthonormal basis Q₂ of the columns of `regressors` (K × 2), by modified Gram–Schmidt; a
@@ -79,8 +99,35 @@ pub(super) fn explained_column(column: &[f64], basis: &[Vec<f64>]) -> f64 {
     basis.iter().map(|q| q.iter().zip(column).map(|(a, b)| a * b).sum::<f64>().powi(2)).sum()
 }
 
-/// The columns of `regressors` whitened by `predictor` ([`NoisePredictor::whitened`]).
-pub(super) fn whitened(regressors: &Mat<f64>, predictor: &NoisePredictor) -> Mat<f64> {
+/// `u` through `predictor`'s full-order prediction-error filter from rest:
+/// v_k = u_k − Σ_{i=1..q} a_q,i u_{k−i}, with u zero before the record.
+pub(super) fn error_filtered(u: &[f64], predictor: &NoisePredictor) -> Vec<f64> {
+    let a = predictor.coefficients(predictor.order());
+    (0..u.len()).map(|k| u[k] - a.iter().zip(u[..k].iter().rev()).map(|(c, x)| c * x).sum::<f64>()).collect()
+}
+
+/// The trial mode's response `x` (K × 2) whitened by `predictor` ([`NoisePredictor::whitened`],
+/// column by column), from `driven`, the same mode's response to the input through the
+/// predictor's error filter ([`error_filtered`]). Both the mode and the filter are linear,
+/// time-invariant and start from rest, so they commute: from sample q on the whitening is that
+/// filter, and `driven` is the whitened response there; the first q samples, where the
+/// whitening is of lower orders, are whitened from `x` itself. One recursion of the mode per
+/// output instead of a q-tap filter over every sample of both columns for every trial.
+pub(super) fn whitened_response(x: &Mat<f64>, mut driven: Mat<f64>, predictor: &NoisePredictor) -> Mat<f64> {
+    let head = predictor.order().min(x.nrows());
+    for c in 0..x.ncols() {
+        let start: Vec<f64> = (0..head).map(|t| x[(t, c)]).collect();
+        for (t, v) in predictor.whitened(&start).into_iter().enumerate() {
+            driven[(t, c)] = v;
+        }
+    }
+    driven
+}
+
+/// The columns of `regressors` whitened by `predictor`, directly: the reference
+/// [`whitened_response`] is checked against.
+#[cfg(test)]
+fn whitened(regressors: &Mat<f64>, predictor: &NoisePredictor) -> Mat<f64> {
     let k = regressors.nrows();
     let mut out = Mat::zeros(k, regressors.ncols());
     for c in 0..regressors.ncols() {
@@ -135,5 +182,28 @@ mod tests {
                 }
         });
         assert!(explained(&orthogonal, &basis(&zero)) < 1e-18);
+    }
+
+    /// The trial mode driven by the filtered input, its first q samples whitened from the mode's
+    /// own response, is the mode's response whitened directly (to round-off), for a predictor of
+    /// 30 lags, past and before sample q.
+    #[test]
+    fn the_mode_driven_by_the_filtered_input_is_its_whitened_response() {
+        let predictor = NoisePredictor::of_autocovariance(
+            &test_problems::Ar2::resonance(0.99, 0.3).autocovariance(30, 1.0),
+        )
+        .expect("positive definite");
+        let u: Vec<f64> =
+            (0..600).map(|k| ((k * 37 % 101) as f64 / 50.0 - 1.0) + (0.01 * k as f64).sin()).collect();
+        let x = trial_response(12.0, 0.02, 0.005, &u).unwrap();
+        let driven = trial_response(12.0, 0.02, 0.005, &error_filtered(&u, &predictor)).unwrap();
+        let fast = whitened_response(&x, driven, &predictor);
+        let direct = whitened(&x, &predictor);
+        let scale = direct.norm_max();
+        for t in 0..u.len() {
+            for c in 0..2 {
+                assert!((fast[(t, c)] - direct[(t, c)]).abs() < 1e-10 * scale, "sample {t}, column {c}");
+            }
+        }
     }
 }
