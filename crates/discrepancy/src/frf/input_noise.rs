@@ -19,7 +19,7 @@
 //! the large one the force drives — and so gain on a record with nothing missing but a clean
 //! force. What it removes is then at most a part of what e put there.
 
-use super::{EXCITED, MAX_SEGMENT, spectra};
+use super::{EXCITED, MAX_SEGMENT, NoiseResponse, spectra};
 use faer::Mat;
 use faer::linalg::solvers::SolveLstsq;
 use mem::Measurement;
@@ -57,6 +57,12 @@ pub struct InputNoise {
     /// Per output, the sensor's floor a_o of `spectra`: the spectrum without the inputs' noise.
     #[serde(skip)]
     pub floors: Vec<f64>,
+    /// Per output, where the fitted model's exact response was given ([`NoiseResponse`]): the
+    /// autocovariance Σ_i β_i γ_oi(l), l = 0, 1, …, of what the inputs' noise leaves in the
+    /// residual (in its weighted units), without the sensor's floor. `None` where the response
+    /// was read by H₁ from the simulation.
+    #[serde(skip)]
+    pub response_autocovariance: Option<Vec<Vec<f64>>>,
 }
 
 /// The noise on `data`'s recorded inputs, from a fitted model's `simulated` outputs and its
@@ -64,7 +70,7 @@ pub struct InputNoise {
 /// fewer than 64 samples, or with fewer than five excited bins. Several residuals of one record
 /// are read with [`RecordedInputs`], whose input spectra are then computed once.
 pub fn input_noise(data: &Measurement, simulated: &Mat<f64>, residual: &Mat<f64>) -> Option<InputNoise> {
-    RecordedInputs::of(data, residual.nrows())?.noise(simulated, residual)
+    RecordedInputs::of(data, residual.nrows())?.noise(simulated, residual, None)
 }
 
 fn auto(s: &[Vec<(f64, f64)>], b: usize) -> f64 {
@@ -119,6 +125,12 @@ impl RecordedInputs {
         (inputs.excited.len() >= 5).then_some(inputs)
     }
 
+    /// The Welch segments' length (samples): a [`NoiseResponse`] given to [`Self::noise`] must
+    /// hold at least this many lags less one.
+    pub fn segment_length(&self) -> usize {
+        self.length
+    }
+
     /// Per input, the largest variance σ_i² its noise may be read at: `CEILING_MARGIN` (2) times
     /// its own spectral floor (the mean of its lowest quarter of Welch bins).
     pub fn ceilings(&self) -> &[f64] {
@@ -133,25 +145,58 @@ impl RecordedInputs {
 
     /// The noise on these inputs as one fit's weighted `simulated` outputs and `residual`
     /// (K × p) show it; `None` if their size is not the record's or the fit does not converge.
-    pub fn noise(&self, simulated: &Mat<f64>, residual: &Mat<f64>) -> Option<InputNoise> {
+    ///
+    /// With the fitted model's exact `response` to white noise on its inputs (same outputs,
+    /// inputs and weights, at least a segment's lags), |G_oi|² at each bin is that response's
+    /// expected windowed periodogram ([`NoiseResponse::expected_levels`]) rather than H₁ of the
+    /// simulation — the power a mode narrower than a bin puts there, not the square of its
+    /// window-averaged response —, the noise's spectrum holds it at every bin (the noise is
+    /// white across the record's whole band, not only where the force excites), and its
+    /// autocovariance is returned exactly.
+    pub fn noise(
+        &self,
+        simulated: &Mat<f64>,
+        residual: &Mat<f64>,
+        response: Option<&NoiseResponse>,
+    ) -> Option<InputNoise> {
         let (k, p, m, length) = (self.k, residual.ncols(), self.names.len(), self.length);
         if residual.nrows() != k || simulated.nrows() != k || simulated.ncols() != p {
             return None;
         }
         let bins = length / 2;
         let window = spectra::window_power(length);
-        let outputs: Vec<_> = (0..p).map(|o| spectra::segments(&|t| simulated[(t, o)], k, length)).collect();
         let residuals: Vec<_> = (0..p).map(|o| spectra::segments(&|t| residual[(t, o)], k, length)).collect();
         let segments = self.segments[0].len() as f64;
-        // |G_oi(f)|² per output, bin and input, by H₁ from the simulation over the inputs
-        // excited at that bin (0 for the others).
+        // |G_oi(f)|² per output, bin and input: the model's exact response where it was given
+        // and fits this record, else H₁ from the simulation over the inputs excited at that bin
+        // (0 for the others).
+        let window_values = spectra::window(length);
+        let exact: Option<Vec<Vec<Vec<f64>>>> = response
+            .filter(|r| r.outputs() == p && r.inputs() == m && r.lags() + 1 >= length)
+            .and_then(|r| {
+                (0..p)
+                    .map(|o| (0..m).map(|i| r.expected_levels(o, i, length, &window_values)).collect())
+                    .collect()
+            });
         let mut gains = vec![vec![vec![0.0; m]; bins]; p];
-        for &b in &self.excited {
-            let active: Vec<usize> = (0..m).filter(|&i| self.excites(i, b)).collect();
+        if let Some(levels) = &exact {
             for (o, per_output) in gains.iter_mut().enumerate() {
-                let response = frequency_response(&self.segments, &outputs[o], &active, b);
-                for (&i, h) in active.iter().zip(response) {
-                    per_output[b][i] = h;
+                for (b, per_bin) in per_output.iter_mut().enumerate() {
+                    for (i, g) in per_bin.iter_mut().enumerate() {
+                        *g = levels[o][i][b];
+                    }
+                }
+            }
+        } else {
+            let outputs: Vec<_> =
+                (0..p).map(|o| spectra::segments(&|t| simulated[(t, o)], k, length)).collect();
+            for &b in &self.excited {
+                let active: Vec<usize> = (0..m).filter(|&i| self.excites(i, b)).collect();
+                for (o, per_output) in gains.iter_mut().enumerate() {
+                    let response = frequency_response(&self.segments, &outputs[o], &active, b);
+                    for (&i, h) in active.iter().zip(response) {
+                        per_output[b][i] = h;
+                    }
                 }
             }
         }
@@ -167,20 +212,38 @@ impl RecordedInputs {
         let upper: Vec<f64> = (0..p).map(|_| f64::INFINITY).chain(self.ceilings.iter().copied()).collect();
         let theta = whittle(&design, &level, &upper)?;
         let beta = &theta[p..];
-        let per_output: f64 =
-            rows.iter().map(|&(o, b)| (0..m).map(|i| beta[i] * gain(o, i, b)).sum::<f64>()).sum::<f64>()
-                * 2.0
-                / length as f64;
+        let per_output: f64 = (0..p)
+            .flat_map(|o| self.excited.iter().map(move |&b| (o, b)))
+            .map(|(o, b)| (0..m).map(|i| beta[i] * gain(o, i, b)).sum::<f64>())
+            .sum::<f64>()
+            * 2.0
+            / length as f64;
         let residual_power = k as f64 * per_output;
         let spectra = (0..p)
             .map(|o| {
                 let mut level = vec![theta[o]; bins];
-                for &b in &self.excited {
-                    level[b] += (0..m).map(|i| beta[i] * gain(o, i, b)).sum::<f64>();
+                if exact.is_some() {
+                    for (b, l) in level.iter_mut().enumerate() {
+                        *l += (0..m).map(|i| beta[i] * gain(o, i, b)).sum::<f64>();
+                    }
+                } else {
+                    for &b in &self.excited {
+                        level[b] += (0..m).map(|i| beta[i] * gain(o, i, b)).sum::<f64>();
+                    }
                 }
                 level
             })
             .collect();
+        let response_autocovariance = exact.is_some().then(|| {
+            let response = response.expect("exact levels come from a response");
+            (0..p)
+                .map(|o| {
+                    (0..=response.lags())
+                        .map(|l| (0..m).map(|i| beta[i] * response.autocovariance(o, i)[l]).sum())
+                        .collect()
+                })
+                .collect()
+        });
         let total: f64 = (0..p).map(|o| residual.col(o).squared_norm_l2()).sum();
         Some(InputNoise {
             inputs: self
@@ -197,6 +260,7 @@ impl RecordedInputs {
             share: if total > 0.0 { (residual_power / total).min(1.0) } else { 0.0 },
             spectra,
             floors: theta[..p].to_vec(),
+            response_autocovariance,
         })
     }
 }
@@ -356,6 +420,50 @@ mod tests {
         let (share, of_residual) = estimated(0.0);
         assert!(share < 0.005, "σ/RMS(u) = {share} on a clean record");
         assert!(of_residual < 0.05, "{of_residual}");
+    }
+
+    /// The oscillator of [`estimated`], its force recorded with 3 % noise and read by a white
+    /// sensor (0.5 % of the response's RMS). Given the model's exact response, the noise is read
+    /// to within a tenth and its autocovariance is returned; H₁ of the simulation reads it
+    /// further off (the square of a window-averaged response at the resonance, narrower than a
+    /// bin, is not the window-averaged power the residual's periodogram holds).
+    #[test]
+    fn the_exact_response_reads_the_forces_noise_closer_than_h1() {
+        let (f, zeta, h, k, sigma) = (12.5, 0.01, 0.005, 4000, 0.03);
+        let u = normals(51, k);
+        let clean = driven_oscillator(f, zeta, h, &u);
+        let rms = (clean.iter().map(|y| y * y).sum::<f64>() / k as f64).sqrt();
+        let y: Vec<f64> = clean.iter().zip(normals(52, k)).map(|(y, n)| y + 0.005 * rms * n).collect();
+        let recorded: Vec<f64> = u.iter().zip(normals(53, k)).map(|(u, n)| u + sigma * n).collect();
+        let simulated = driven_oscillator(f, zeta, h, &recorded);
+        let data = forced_record(&recorded, &y, h);
+        let w = 2.0 * std::f64::consts::PI * f;
+        let a = Mat::from_fn(2, 2, |r, c| match (r, c) {
+            (0, 1) => 1.0,
+            (1, 0) => -w * w,
+            (1, 1) => -2.0 * zeta * w,
+            _ => 0.0,
+        });
+        let b = Mat::from_fn(2, 1, |r, _| f64::from(u8::from(r == 1)));
+        let c = Mat::from_fn(1, 2, |_, j| f64::from(u8::from(j == 0)));
+        let inputs = super::RecordedInputs::of(&data, k).unwrap();
+        let response = crate::frf::NoiseResponse::new(
+            &crate::frf::tests::space(&a, &b, &c, None),
+            mem::Hold::Zero,
+            h,
+            &[1.0],
+            inputs.segment_length(),
+        )
+        .unwrap();
+        let (sim, res) =
+            (Mat::from_fn(k, 1, |t, _| simulated[t]), Mat::from_fn(k, 1, |t, _| y[t] - simulated[t]));
+        let exact = inputs.noise(&sim, &res, Some(&response)).unwrap();
+        let by_h1 = inputs.noise(&sim, &res, None).unwrap();
+        let truth = sigma / (recorded.iter().map(|x| x * x).sum::<f64>() / k as f64).sqrt();
+        let (read, h1) = (exact.inputs[0].share, by_h1.inputs[0].share);
+        assert!((read / truth - 1.0).abs() < 0.1, "read {read}, put {truth} (H₁: {h1})");
+        assert!((h1 / truth - 1.0).abs() > (read / truth - 1.0).abs(), "H₁ {h1}, exact {read}, put {truth}");
+        assert!(exact.response_autocovariance.is_some() && by_h1.response_autocovariance.is_none());
     }
 
     /// Two correlated forces (u₂ = 0.6 u₁ + 0.8 n), each driving its own oscillator read by

@@ -20,10 +20,12 @@
 //! response fed to ERA, tried before that, rang at a swept sine's last frequency.)
 
 mod input_noise;
+mod noise_response;
 mod scan;
 mod spectra;
 
 pub use input_noise::{InputNoise, InputNoiseLevel, RecordedInputs, input_noise};
+pub use noise_response::NoiseResponse;
 
 use era::EraMode;
 use faer::Mat;
@@ -234,6 +236,24 @@ pub(super) mod tests {
             .unwrap()
             .with_inputs(&["u"], Hold::Zero)
             .unwrap()
+    }
+
+    /// The state space ẋ = A x + B u, y = C x + D u of faer matrices (x(0) = 0).
+    pub(crate) fn space(
+        a: &Mat<f64>,
+        b: &Mat<f64>,
+        c: &Mat<f64>,
+        d: Option<&Mat<f64>>,
+    ) -> mem::StateSpace<f64> {
+        let nalgebra =
+            |x: &Mat<f64>| mem::nalgebra::DMatrix::from_fn(x.nrows(), x.ncols(), |r, cc| x[(r, cc)]);
+        mem::StateSpace {
+            a: nalgebra(a),
+            c: nalgebra(c),
+            x0: mem::nalgebra::DVector::zeros(a.nrows()),
+            b: Some(nalgebra(b)),
+            d: d.map(nalgebra),
+        }
     }
 
     /// `n` seeded standard normals.
