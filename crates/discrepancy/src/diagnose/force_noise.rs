@@ -355,14 +355,8 @@ mod tests {
     /// samples.
     #[test]
     fn the_floors_colour_is_read_by_the_likelihood() {
-        let (w, zeta, h, k) = (2.0 * std::f64::consts::PI * 3.0, 0.03, 0.01, 4_000);
-        let a = Mat::from_fn(2, 2, |r, c| match (r, c) {
-            (0, 1) => 1.0,
-            (1, 0) => -w * w,
-            (1, 1) => -2.0 * zeta * w,
-            _ => 0.0,
-        });
-        let b = Mat::from_fn(2, 1, |r, _| f64::from(u8::from(r == 1)));
+        let (h, k) = (0.01, 4_000);
+        let (a, b) = crate::frf::tests::oscillator(3.0, 0.03);
         let c = Mat::from_fn(1, 2, |_, j| f64::from(u8::from(j == 0)));
         let space = crate::frf::tests::space(&a, &b, &c, None);
         let response = NoiseResponse::new(&space, Hold::Zero, h, &[1.0], 20).unwrap();

@@ -437,14 +437,7 @@ mod tests {
         let recorded: Vec<f64> = u.iter().zip(normals(53, k)).map(|(u, n)| u + sigma * n).collect();
         let simulated = driven_oscillator(f, zeta, h, &recorded);
         let data = forced_record(&recorded, &y, h);
-        let w = 2.0 * std::f64::consts::PI * f;
-        let a = Mat::from_fn(2, 2, |r, c| match (r, c) {
-            (0, 1) => 1.0,
-            (1, 0) => -w * w,
-            (1, 1) => -2.0 * zeta * w,
-            _ => 0.0,
-        });
-        let b = Mat::from_fn(2, 1, |r, _| f64::from(u8::from(r == 1)));
+        let (a, b) = crate::frf::tests::oscillator(f, zeta);
         let c = Mat::from_fn(1, 2, |_, j| f64::from(u8::from(j == 0)));
         let inputs = super::RecordedInputs::of(&data, k).unwrap();
         let response = crate::frf::NoiseResponse::new(

@@ -238,6 +238,18 @@ pub(super) mod tests {
             .unwrap()
     }
 
+    /// A and B of ÿ + 2ζω ẏ + ω² y = u (ω = 2πf) in the state [y, ẏ].
+    pub(crate) fn oscillator(f: f64, zeta: f64) -> (Mat<f64>, Mat<f64>) {
+        let w = 2.0 * std::f64::consts::PI * f;
+        let a = Mat::from_fn(2, 2, |r, c| match (r, c) {
+            (0, 1) => 1.0,
+            (1, 0) => -w * w,
+            (1, 1) => -2.0 * zeta * w,
+            _ => 0.0,
+        });
+        (a, Mat::from_fn(2, 1, |r, _| f64::from(u8::from(r == 1))))
+    }
+
     /// The state space ẋ = A x + B u, y = C x + D u of faer matrices (x(0) = 0).
     pub(crate) fn space(
         a: &Mat<f64>,

@@ -171,14 +171,7 @@ mod tests {
     /// gives (independent: a sum over the impulse response, computed by stepping the exact
     /// sampled model), for both holds, and for an output with feedthrough.
     fn oscillator() -> (Mat<f64>, Mat<f64>, Mat<f64>, Mat<f64>) {
-        let (w, zeta) = (2.0 * std::f64::consts::PI * 3.0, 0.03);
-        let a = Mat::from_fn(2, 2, |r, c| match (r, c) {
-            (0, 1) => 1.0,
-            (1, 0) => -w * w,
-            (1, 1) => -2.0 * zeta * w,
-            _ => 0.0,
-        });
-        let b = Mat::from_fn(2, 1, |r, _| if r == 1 { 1.0 } else { 0.0 });
+        let (a, b) = super::super::tests::oscillator(3.0, 0.03);
         let c = Mat::from_fn(2, 2, |r, cc| if r == cc { 1.0 } else { 0.0 });
         let d = Mat::from_fn(2, 1, |r, _| if r == 1 { 0.25 } else { 0.0 });
         (a, b, c, d)
