@@ -11,7 +11,10 @@
 //! 3. refits with each **candidate effect** of the catalog ([`diagnose::catalog`]; starting
 //!    values from the model and the data), in parallel;
 //! 4. **scores** every candidate by the same likelihood of the same data — Gaussian AR(1) noise
-//!    per output, its parameters profiled ([`diagnose::evidence`]) — in sample (ΔBIC) and on
+//!    per output, its parameters profiled ([`diagnose::evidence`]); on a record whose measured
+//!    force carries noise, that noise through the model's exact sampled response (the discrete
+//!    Lyapunov equation, [`frf::NoiseResponse`]) beside the sensor's floor, predicted to order
+//!    20 (errors in variables; Pintelon & Schoukens 2012, §7.2) — in sample (ΔBIC) and on
 //!    held-out blocks (fitted on alternate blocks, scored on the others), with the model's own
 //!    linear parameters freed as well so that a parameter mismatch is not named as an effect;
 //! 5. names the effect that passes every test with the most held-out evidence, or answers

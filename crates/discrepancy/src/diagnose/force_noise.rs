@@ -30,7 +30,7 @@
 use super::catalog::Trial;
 use super::evidence::{NoiseModel, Predictor, autocovariance};
 use super::{Candidate, Verdict};
-use crate::frf::{InputNoise, RecordedInputs};
+use crate::frf::{InputNoise, NoiseResponse, RecordedInputs};
 use faer::Mat;
 use mem::Measurement;
 use models::FitOutcome;
@@ -60,23 +60,56 @@ pub const FORCE_NOISE_SHARE: f64 = 0.5;
 pub const FORCE_NOISE_EXEMPT: f64 = 110.0;
 
 /// A fit's weighted simulated outputs and residual (K × p), as [`RecordedInputs::noise`]
-/// reads them, and the residual's weighted sum of squares.
+/// reads them, the residual's weighted sum of squares, and the fitted model's exact response to
+/// white noise on its inputs where it has one ([`exact_response`]) — or, where it has none (an
+/// added mode refitted without damping, which does not decay), the `fallback` model's, the
+/// reference's linear one.
 struct Weighted {
     simulated: Mat<f64>,
     residual: Mat<f64>,
     error: f64,
+    response: Option<NoiseResponse>,
 }
 
 impl Weighted {
-    fn of(outcome: &FitOutcome) -> Self {
+    fn of(outcome: &FitOutcome, fallback: &FitOutcome, inputs: &RecordedInputs) -> Self {
         let first = outcome.first();
         let (k, p) = (first.final_sensed.nrows(), first.final_sensed.ncols());
         let raw = first.residual();
         let residual = Mat::from_fn(k, p, |t, o| first.weights[o] * raw[(t, o)]);
         let simulated = Mat::from_fn(k, p, |t, o| first.weights[o] * first.final_sensed[(t, o)]);
         let error = residual.squared_norm_l2();
-        Self { simulated, residual, error }
+        let lags = inputs.segment_length().max(MAX_PREDICTOR_ORDER);
+        let response = exact_response(outcome, lags).or_else(|| exact_response(fallback, lags));
+        Self { simulated, residual, error, response }
     }
+
+    /// The noise on `inputs` as this fit shows it ([`RecordedInputs::noise`]).
+    fn noise(&self, inputs: &RecordedInputs) -> Option<InputNoise> {
+        inputs.noise(&self.simulated, &self.residual, self.response.as_ref())
+    }
+}
+
+/// The fitted model's exact response to unit white noise on its recorded inputs, its outputs
+/// weighted as the fit's, up to `lags` ([`NoiseResponse`]); `None` for a model without a linear
+/// state space with inputs (the slewing rig), a decimated record (its inputs are averaged over
+/// each interval), inputs recorded in another order than the model's, or a model without a
+/// stationary response (a mode that does not decay). The state space is the linear part of the
+/// fitted model, its added modes included; an added force or a sensor effect is left out — the
+/// noise is small, and it passes through the model about its response to the force.
+fn exact_response(outcome: &FitOutcome, lags: usize) -> Option<NoiseResponse> {
+    let first = outcome.first();
+    let data = &first.data;
+    if data.decimation().is_some_and(|d| d.factor() > 1) {
+        return None;
+    }
+    let inputs = data.inputs()?;
+    let model = outcome.fitted.as_structure()?;
+    if inputs.names() != model.input_names().as_slice() {
+        return None;
+    }
+    let space = model.state_space::<f64>(&model.values()).ok()?;
+    NoiseResponse::new(&space, inputs.hold(), data.interval(), &first.weights, lags)
 }
 
 /// The noise on `data`'s recorded inputs, read from the best-fitting of the reference and the
@@ -92,12 +125,12 @@ pub(super) fn screen(
     data: &Measurement,
 ) -> Option<InputNoise> {
     let inputs = RecordedInputs::of(data, data.n_samples())?;
-    let before = Weighted::of(reference);
+    let before = Weighted::of(reference, reference, &inputs);
     let fits: Vec<Option<Weighted>> =
-        candidates.iter().map(|c| c.outcome.as_ref().map(Weighted::of)).collect();
+        candidates.iter().map(|c| c.outcome.as_ref().map(|o| Weighted::of(o, reference, &inputs))).collect();
     let best =
         fits.iter().flatten().chain(std::iter::once(&before)).min_by(|a, b| a.error.total_cmp(&b.error))?;
-    let noise = inputs.noise(&best.simulated, &best.residual)?;
+    let noise = best.noise(&inputs)?;
     for ((candidate, trial), fit) in candidates.iter_mut().zip(trials).zip(&fits) {
         let Some(fit) = fit else { continue };
         if candidate.verdict != Verdict::Outscored || !takes_up_the_response(trial.kind) {
@@ -108,7 +141,7 @@ pub(super) fn screen(
         if candidate.evidence.held_out.is_some_and(|h| h > FORCE_NOISE_EXEMPT) {
             continue;
         }
-        let Some(left) = inputs.noise(&fit.simulated, &fit.residual) else { continue };
+        let Some(left) = fit.noise(&inputs) else { continue };
         if before.error - fit.error < FORCE_NOISE_SHARE * left.residual_power {
             candidate.verdict = Verdict::WithinForceNoise;
         }
@@ -142,10 +175,11 @@ fn takes_up_the_response(kind: EffectKind) -> bool {
 }
 
 /// The noise on `data`'s recorded force as `best`, the best-fitting model, shows it (the
-/// residual closest to the noise itself, as for ρ); `None` for a record without inputs.
-pub(super) fn read(best: &FitOutcome, data: &Measurement) -> Option<InputNoise> {
-    let fit = Weighted::of(best);
-    RecordedInputs::of(data, fit.residual.nrows())?.noise(&fit.simulated, &fit.residual)
+/// residual closest to the noise itself, as for ρ; the fitted `reference` stands in for `best`'s
+/// model where that has no stationary response); `None` for a record without inputs.
+pub(super) fn read(best: &FitOutcome, reference: &FitOutcome, data: &Measurement) -> Option<InputNoise> {
+    let inputs = RecordedInputs::of(data, best.first().final_sensed.nrows())?;
+    Weighted::of(best, reference, &inputs).noise(&inputs)
 }
 
 /// The least order of the noise's predictor on a forced record ([`NoiseModel::predictors`]).
@@ -173,8 +207,16 @@ pub const PREDICTOR_CONVERGED: f64 = 1e-3;
 /// the limit, order 80 within 0.05 % (docs/diagnose.md, "The force's noise predicted to its
 /// modes' length").
 fn predictor_of(total: &[f64]) -> Option<Predictor> {
-    let mut lags = MAX_PREDICTOR_ORDER.min(total.len() / 2).max(PREDICTOR_ORDER);
-    let gamma = autocovariance(total, lags);
+    let lags = MAX_PREDICTOR_ORDER.min(total.len() / 2).max(PREDICTOR_ORDER);
+    converged(&autocovariance(total, lags))
+}
+
+/// The predictor of the autocovariance `gamma` (lags 0, 1, …) of the least order from
+/// [`PREDICTOR_ORDER`] whose error variance lies within [`PREDICTOR_CONVERGED`] of that of the
+/// largest order `gamma` holds and is positive definite for (halved down to
+/// [`PREDICTOR_ORDER`] until it is); `None` if even that is not.
+fn converged(gamma: &[f64]) -> Option<Predictor> {
+    let mut lags = gamma.len().checked_sub(1)?;
     // The largest order whose autocovariance is still positive definite.
     let full = loop {
         match Predictor::of_autocovariance(&gamma[..=lags]) {
@@ -202,9 +244,40 @@ fn predictor_of(total: &[f64]) -> Option<Predictor> {
 /// of nats (a drag with its exponent and the refitted damping, 227 nats on the fixture
 /// `offset_q3_noisy_force`, where the model's W = E‖G e‖² differs from the reference's by under
 /// a nat); under the noise's own spectrum the same match is what that noise does by chance.
-pub(super) fn predictors(read: &InputNoise, noise: &NoiseModel) -> Vec<Option<Predictor>> {
+///
+/// Where the read holds the fitted model's exact response ([`InputNoise::response_autocovariance`],
+/// a structure's linear model), the autocovariance is that response's own beside the sensor's
+/// floor, coloured as the likelihood of `residual` (the residual the noise was read from) says
+/// ([`floor_colour`], [`floor_lags`]). A spectrum sampled on Welch bins a quarter of the record
+/// wide stands for a lightly damped mode's response only roughly, and a floor coloured so that
+/// the two together are correlated at lag one as the residual is takes up every error of the
+/// read: a residual of nothing but that noise was then predicted better by its own AR(20) than
+/// by the predictor, by tens of nats (a sensor offset on draw 20261319 was set aside as
+/// removing 20 % of its output's structure; under the exact response and the floor's colour
+/// the noise alone leaves about none). The floor's colour is chosen under the first
+/// [`PREDICTOR_ORDER`] lags; the predictor then runs to the order at which its error converges
+/// ([`converged`]; at most [`MAX_PREDICTOR_ORDER`] and a quarter of the record), as the
+/// spectrum's does.
+pub(super) fn predictors(
+    read: &InputNoise,
+    noise: &NoiseModel,
+    residual: &Mat<f64>,
+) -> Vec<Option<Predictor>> {
     (0..read.spectra.len())
         .map(|o| {
+            if let Some(exact) = read.response_autocovariance.as_ref().and_then(|r| r.get(o)) {
+                let floor = read.floors.get(o).copied().unwrap_or(0.0);
+                let longest = MAX_PREDICTOR_ORDER.min(residual.nrows() / 4).max(PREDICTOR_ORDER);
+                let lags = &exact[..exact.len().min(longest + 1)];
+                if !lags.first().is_some_and(|g| *g > 0.0) || o >= residual.ncols() {
+                    return None;
+                }
+                let series: Vec<f64> = (0..residual.nrows()).map(|t| residual[(t, o)]).collect();
+                // The floor's colour by the likelihood under the first lags (the search scores
+                // some sixty colours); the predictor then runs to its converged order.
+                let rho_v = floor_colour(&lags[..lags.len().min(PREDICTOR_ORDER + 1)], floor, &series);
+                return converged(&floor_lags(lags, floor, rho_v));
+            }
             let total = noise_spectrum(read, noise, o)?;
             let floor = read.floors.get(o).copied().unwrap_or(0.0);
             let coloured = read.spectra[o].iter().any(|l| l - floor > 0.0);
@@ -251,6 +324,82 @@ fn coloured_floor(response: &[f64], floor: f64, rho: f64) -> Vec<f64> {
     shape.iter().zip(response).map(|(s, r)| scale * s + r).collect()
 }
 
+/// The autocovariance `response` (lags 0, 1, …) of the force's noise through the model with a
+/// sensor floor of variance `floor` and AR(1) colour `rho_v` added; `response` alone for a
+/// floor that is not positive.
+fn floor_lags(response: &[f64], floor: f64, rho_v: f64) -> Vec<f64> {
+    if floor.is_nan() || floor <= 0.0 {
+        return response.to_vec();
+    }
+    let mut power = 1.0;
+    response
+        .iter()
+        .map(|g| {
+            let v = g + floor * power;
+            power *= rho_v;
+            v
+        })
+        .collect()
+}
+
+/// The sensor floor's AR(1) colour ρ_v in [−[`MAX_FLOOR_COLOUR`], [`MAX_FLOOR_COLOUR`]] that
+/// maximises the likelihood of `series`, the residual the noise was read from, under the
+/// force's noise `response` beside that floor ([`floor_lags`]); 0 for a floor that is not
+/// positive. A grid of [`FLOOR_COLOUR_GRID`] steps, then golden sections about its best.
+///
+/// A sensor may be coloured of itself, and the floor's colour is what tells that apart from the
+/// force's noise. Set instead so that the floor and the response together are correlated at lag
+/// one as the residual is (the rule on Welch spectra, [`noise_spectrum`]), it takes up every
+/// error of the read of the noise's level: on draw 20261319 (`A_offset_medium_s1`, white
+/// sensors, the force's noise read at 0.86 % against 1 %) it came out −0.12 and left 25 nats of
+/// structure in the reference and 12 in the residual of the true offset; at the likelihood's
+/// ρ_v (0.01) they are 10 and none.
+fn floor_colour(response: &[f64], floor: f64, series: &[f64]) -> f64 {
+    if floor.is_nan() || floor <= 0.0 {
+        return 0.0;
+    }
+    let score = |rho_v: f64| {
+        Predictor::of_autocovariance(&floor_lags(response, floor, rho_v))
+            .map_or(f64::NEG_INFINITY, |p| profile_likelihood(&p, series))
+    };
+    let step = 2.0 * MAX_FLOOR_COLOUR / FLOOR_COLOUR_GRID as f64;
+    let grid = (0..=FLOOR_COLOUR_GRID).map(|j| -MAX_FLOOR_COLOUR + step * j as f64);
+    let (best, _) =
+        grid.map(|r| (r, score(r))).fold((0.0, f64::NEG_INFINITY), |a, b| if b.1 > a.1 { b } else { a });
+    let (mut low, mut high) = ((best - step).max(-MAX_FLOOR_COLOUR), (best + step).min(MAX_FLOOR_COLOUR));
+    let ratio = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..24 {
+        let (a, b) = (high - ratio * (high - low), low + ratio * (high - low));
+        if score(a) >= score(b) {
+            high = b;
+        } else {
+            low = a;
+        }
+    }
+    0.5 * (low + high)
+}
+
+/// The largest |ρ_v| of the sensor floor's colour.
+const MAX_FLOOR_COLOUR: f64 = 0.99;
+
+/// Grid steps of [`floor_colour`] over [−0.99, 0.99].
+const FLOOR_COLOUR_GRID: usize = 40;
+
+/// −(n/2) ln(U/n) of `series` under `predictor`, U its scaled innovations' sum of squares (the
+/// likelihood the evidence scores, [`NoiseModel::log_likelihoods`]).
+fn profile_likelihood(predictor: &Predictor, series: &[f64]) -> f64 {
+    let q = predictor.order();
+    let mut past: Vec<f64> = Vec::with_capacity(q + 1);
+    let mut u = 0.0;
+    for &e in series {
+        u += predictor.squared_innovation(e, &past);
+        past.insert(0, e);
+        past.truncate(q);
+    }
+    let n = series.len() as f64;
+    if u > 0.0 && n > 0.0 { -0.5 * n * (u / n).ln() } else { f64::NEG_INFINITY }
+}
+
 /// The structure (nats, [`structure_of_spectrum`]) `n` samples of the noise alone hold under
 /// the measurement model's ρ: [`coloured_floor`] of the force's noise response and the sensor's
 /// floor. Without the force's noise it is 0.
@@ -262,8 +411,57 @@ fn noise_structure(response: &[f64], floor: f64, rho: f64, n: usize) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::{
-        PREDICTOR_CONVERGED, PREDICTOR_ORDER, Predictor, autocovariance, noise_structure, predictor_of,
+        PREDICTOR_CONVERGED, PREDICTOR_ORDER, Predictor, autocovariance, floor_colour, noise_structure,
+        predictor_of,
     };
+    use crate::frf::NoiseResponse;
+    use faer::Mat;
+    use mem::Hold;
+
+    /// The force's noise through a lightly damped oscillator (3 Hz, ζ 0.03, sampled at 100 Hz)
+    /// beside a sensor floor of AR(1) colour ρ (0, 0.6 and −0.4), each as much power as the
+    /// other: the floor's colour the likelihood gives is ρ, to within the spread of 4,000
+    /// samples.
+    #[test]
+    fn the_floors_colour_is_read_by_the_likelihood() {
+        let (h, k) = (0.01, 4_000);
+        let (a, b) = crate::frf::tests::oscillator(3.0, 0.03);
+        let c = Mat::from_fn(1, 2, |_, j| f64::from(u8::from(j == 0)));
+        let space = crate::frf::tests::space(&a, &b, &c, None);
+        let response = NoiseResponse::new(&space, Hold::Zero, h, &[1.0], 20).unwrap();
+        let gamma = response.autocovariance(0, 0).to_vec();
+        let gains = expm::step_gains(a.as_ref(), &[], b.as_ref(), &[], h).unwrap();
+        let drive = &gains.now + &gains.next;
+        let normals = |seed: u64| -> Vec<f64> {
+            let mut rng = test_problems::rng(seed);
+            (0..k + 2_000)
+                .map(|_| rand::Rng::sample::<f64, _>(&mut rng, rand_distr::StandardNormal))
+                .collect()
+        };
+        let (force, sensor) = (normals(41), normals(42));
+        let mut x = Mat::<f64>::zeros(2, 1);
+        let mut through = Vec::with_capacity(k);
+        for (t, e) in force.iter().enumerate() {
+            if t >= 2_000 {
+                through.push(x[(0, 0)]);
+            }
+            x = &gains.phi * &x + &drive * *e;
+        }
+        let floor = gamma[0];
+        for rho in [0.0, 0.6, -0.4] {
+            let mut v = sensor[0] * floor.sqrt();
+            let series: Vec<f64> = through
+                .iter()
+                .zip(&sensor[1..])
+                .map(|(g, n)| {
+                    v = rho * v + (1.0 - rho * rho).sqrt() * floor.sqrt() * n;
+                    g + v
+                })
+                .collect();
+            let read = floor_colour(&gamma, floor, &series);
+            assert!((read - rho).abs() < 0.05, "ρ {rho}: read {read}");
+        }
+    }
 
     /// A white sensor floor alone, or one coloured of itself (read under its own ρ), holds no
     /// structure; a resonance above it holds what the spectrum implies.

@@ -84,7 +84,7 @@ impl Scoring<'_> {
             .chain(std::iter::once(&reference.outcome))
             .min_by(|a, b| last_error(a).total_cmp(&last_error(b)))
             .expect("the reference is there");
-        let (mut best, mut noise) = (best, measurement_model(best, data));
+        let (mut best, mut noise) = (best, measurement_model(best, &reference.outcome, data));
         // On a forced record the noise is read again from the model its own likelihood puts
         // first, if that is another: the best-fitting refit may be one that matched part of the
         // force's noise, and read from it that noise looks smaller than it is.
@@ -100,7 +100,7 @@ impl Scoring<'_> {
                 .max_by(|a, b| total(a).total_cmp(&total(b)))
                 .expect("the reference is there");
             if !std::ptr::eq(first, best) {
-                (best, noise) = (first, measurement_model(first, data));
+                (best, noise) = (first, measurement_model(first, &reference.outcome, data));
             }
         }
         let under = noise.fit_weights(&best.first().residual());
@@ -116,14 +116,18 @@ impl Scoring<'_> {
         // On a forced record with noise on its force, a sensor effect's share on its own output
         // is of the structure beyond the better of that noise model and the one read again from
         // each residual itself, the reference's and the refit's ([`own_structure`]).
-        let reference_on_output = own_structure(&noise, &reference.outcome, data, &reference_per_output);
+        let reference_on_output =
+            own_structure(&noise, &reference.outcome, &reference.outcome, data, &reference_per_output);
         // The share of the structure a refit removes, in all and on a sensor effect's own output
         // (one AR fit per output serves both).
         let explained = |outcome: &FitOutcome, output: Option<usize>| {
             let left = beyond(&outcome.first().residual());
             let on = |o: usize| {
                 share(
-                    own_structure(&noise, outcome, data, &left).get(o).copied().unwrap_or(0.0),
+                    own_structure(&noise, outcome, &reference.outcome, data, &left)
+                        .get(o)
+                        .copied()
+                        .unwrap_or(0.0),
                     reference_on_output.get(o).copied().unwrap_or(0.0),
                 )
             };
@@ -252,28 +256,35 @@ impl Scoring<'_> {
 /// read 0.11–0.6 % against a truth of 1 % on draw 20261316): the noise's response the read
 /// misses is then counted as structure the sensor effect leaves. Read from the residual the
 /// effect leaves — as the force-noise screen reads it ([`force_noise::screen`]) — it is not.
-fn own_structure(noise: &NoiseModel, outcome: &FitOutcome, data: &Measurement, shared: &[f64]) -> Vec<f64> {
-    let read = (!noise.predictors.is_empty()).then(|| force_noise::read(outcome, data)).flatten();
+fn own_structure(
+    noise: &NoiseModel,
+    outcome: &FitOutcome,
+    reference: &FitOutcome,
+    data: &Measurement,
+    shared: &[f64],
+) -> Vec<f64> {
+    let read = (!noise.predictors.is_empty()).then(|| force_noise::read(outcome, reference, data)).flatten();
     let Some(read) = read else { return shared.to_vec() };
-    let own = with_force_noise(noise.clone(), &read);
+    let own = with_force_noise(noise.clone(), &read, &outcome.first().residual());
     let again = evidence::structure_per_output(&outcome.first().residual(), &own);
     shared.iter().enumerate().map(|(o, &here)| again.get(o).map_or(here, |&s| s.min(here))).collect()
 }
 
 /// The measurement model read from one fit's residual: ρ per output, and on a forced record the
 /// predictors of the noise its recorded force's noise leaves ([`force_noise::predictors`]).
-pub(super) fn measurement_model(best: &FitOutcome, data: &Measurement) -> NoiseModel {
-    let noise = NoiseModel::of(&best.first().residual());
-    match force_noise::read(best, data) {
-        Some(read) => with_force_noise(noise, &read),
+pub(super) fn measurement_model(best: &FitOutcome, reference: &FitOutcome, data: &Measurement) -> NoiseModel {
+    let residual = best.first().residual();
+    let noise = NoiseModel::of(&residual);
+    match force_noise::read(best, reference, data) {
+        Some(read) => with_force_noise(noise, &read, &residual),
         None => noise,
     }
 }
 
-/// `noise` (its ρ_o kept) with the predictors of the noise the force's noise `read` leaves
-/// ([`force_noise::predictors`]) and their orders.
-fn with_force_noise(mut noise: NoiseModel, read: &InputNoise) -> NoiseModel {
-    noise.predictors = force_noise::predictors(read, &noise);
+/// `noise` (its ρ_o kept) with the predictors of the noise the force's noise `read` leaves in
+/// `residual` ([`force_noise::predictors`]) and their orders.
+fn with_force_noise(mut noise: NoiseModel, read: &InputNoise, residual: &Mat<f64>) -> NoiseModel {
+    noise.predictors = force_noise::predictors(read, &noise, residual);
     noise.predictor_order = noise.predictors.iter().map(|p| p.as_ref().map_or(0, Predictor::order)).collect();
     noise
 }

@@ -19,7 +19,7 @@
 //! the large one the force drives — and so gain on a record with nothing missing but a clean
 //! force. What it removes is then at most a part of what e put there.
 
-use super::{EXCITED, MAX_SEGMENT, spectra};
+use super::{EXCITED, MAX_SEGMENT, NoiseResponse, spectra};
 use faer::Mat;
 use faer::linalg::solvers::SolveLstsq;
 use mem::Measurement;
@@ -57,6 +57,12 @@ pub struct InputNoise {
     /// Per output, the sensor's floor a_o of `spectra`: the spectrum without the inputs' noise.
     #[serde(skip)]
     pub floors: Vec<f64>,
+    /// Per output, where the fitted model's exact response was given ([`NoiseResponse`]): the
+    /// autocovariance Σ_i β_i γ_oi(l), l = 0, 1, …, of what the inputs' noise leaves in the
+    /// residual (in its weighted units), without the sensor's floor. `None` where the response
+    /// was read by H₁ from the simulation.
+    #[serde(skip)]
+    pub response_autocovariance: Option<Vec<Vec<f64>>>,
 }
 
 /// The noise on `data`'s recorded inputs, from a fitted model's `simulated` outputs and its
@@ -64,7 +70,7 @@ pub struct InputNoise {
 /// fewer than 64 samples, or with fewer than five excited bins. Several residuals of one record
 /// are read with [`RecordedInputs`], whose input spectra are then computed once.
 pub fn input_noise(data: &Measurement, simulated: &Mat<f64>, residual: &Mat<f64>) -> Option<InputNoise> {
-    RecordedInputs::of(data, residual.nrows())?.noise(simulated, residual)
+    RecordedInputs::of(data, residual.nrows())?.noise(simulated, residual, None)
 }
 
 fn auto(s: &[Vec<(f64, f64)>], b: usize) -> f64 {
@@ -83,6 +89,7 @@ pub struct RecordedInputs {
     largest: Vec<f64>,
     excited: Vec<usize>,
     ceilings: Vec<f64>,
+    quiet: Vec<Option<f64>>,
 }
 
 /// How far above the recorded input's own spectral floor its noise may be read
@@ -91,6 +98,21 @@ pub const CEILING_MARGIN: f64 = 2.0;
 
 /// The share of a recorded input's spectral bins, its lowest, whose mean is its floor.
 pub const FLOOR_BINS: f64 = 0.25;
+
+/// A recorded input's bin is quiet where its level lies below this share of its largest
+/// ([`RecordedInputs::quiet_levels`]): 30 dB under the band it excites.
+pub const QUIET: f64 = 1e-3;
+
+/// The least share of a recorded input's bins that must be quiet for their level to be read as
+/// its noise's.
+pub const QUIET_BINS: f64 = 0.125;
+
+/// The quiet bins' level must be flat — the mean of the lower-frequency half of them within
+/// this factor of the upper half's — to be read as white noise, not a falling tail of the force.
+pub const QUIET_FLATNESS: f64 = 1.5;
+
+/// Quiet bins above this multiple of their median are the force's leakage, not its noise.
+pub const QUIET_OUTLIER: f64 = 3.0;
 
 impl RecordedInputs {
     /// `data`'s inputs on a grid of `k` rows; `None` without inputs, with fewer than 64 samples,
@@ -113,16 +135,29 @@ impl RecordedInputs {
         let rms =
             (0..m).map(|i| ((0..k).map(|t| held[(t, i)].powi(2)).sum::<f64>() / k as f64).sqrt()).collect();
         let ceilings = suu.iter().zip(&segments).map(|(s, u)| ceiling(s, u.len(), length)).collect();
+        let quiet = suu.iter().zip(&segments).map(|(s, u)| quiet_level(s, u.len(), length)).collect();
         let mut inputs =
-            Self { names, rms, k, length, segments, suu, largest, excited: Vec::new(), ceilings };
+            Self { names, rms, k, length, segments, suu, largest, excited: Vec::new(), ceilings, quiet };
         inputs.excited = (1..bins).filter(|&b| (0..m).any(|i| inputs.excites(i, b))).collect();
         (inputs.excited.len() >= 5).then_some(inputs)
+    }
+
+    /// The Welch segments' length (samples): a [`NoiseResponse`] given to [`Self::noise`] must
+    /// hold at least this many lags less one.
+    pub fn segment_length(&self) -> usize {
+        self.length
     }
 
     /// Per input, the largest variance σ_i² its noise may be read at: `CEILING_MARGIN` (2) times
     /// its own spectral floor (the mean of its lowest quarter of Welch bins).
     pub fn ceilings(&self) -> &[f64] {
         &self.ceilings
+    }
+
+    /// Per input, the noise's variance σ_i² read from the recorded input's own quiet band, where
+    /// it has one ([`quiet_level`]); the Whittle fit of [`Self::noise`] then holds β_i there.
+    pub fn quiet_levels(&self) -> &[Option<f64>] {
+        &self.quiet
     }
 
     /// Whether input i excites bin b (its auto-spectrum there at least [`EXCITED`] of its largest).
@@ -133,25 +168,58 @@ impl RecordedInputs {
 
     /// The noise on these inputs as one fit's weighted `simulated` outputs and `residual`
     /// (K × p) show it; `None` if their size is not the record's or the fit does not converge.
-    pub fn noise(&self, simulated: &Mat<f64>, residual: &Mat<f64>) -> Option<InputNoise> {
+    ///
+    /// With the fitted model's exact `response` to white noise on its inputs (same outputs,
+    /// inputs and weights, at least a segment's lags), |G_oi|² at each bin is that response's
+    /// expected windowed periodogram ([`NoiseResponse::expected_levels`]) rather than H₁ of the
+    /// simulation — the power a mode narrower than a bin puts there, not the square of its
+    /// window-averaged response —, the noise's spectrum holds it at every bin (the noise is
+    /// white across the record's whole band, not only where the force excites), and its
+    /// autocovariance is returned exactly.
+    pub fn noise(
+        &self,
+        simulated: &Mat<f64>,
+        residual: &Mat<f64>,
+        response: Option<&NoiseResponse>,
+    ) -> Option<InputNoise> {
         let (k, p, m, length) = (self.k, residual.ncols(), self.names.len(), self.length);
         if residual.nrows() != k || simulated.nrows() != k || simulated.ncols() != p {
             return None;
         }
         let bins = length / 2;
         let window = spectra::window_power(length);
-        let outputs: Vec<_> = (0..p).map(|o| spectra::segments(&|t| simulated[(t, o)], k, length)).collect();
         let residuals: Vec<_> = (0..p).map(|o| spectra::segments(&|t| residual[(t, o)], k, length)).collect();
         let segments = self.segments[0].len() as f64;
-        // |G_oi(f)|² per output, bin and input, by H₁ from the simulation over the inputs
-        // excited at that bin (0 for the others).
+        // |G_oi(f)|² per output, bin and input: the model's exact response where it was given
+        // and fits this record, else H₁ from the simulation over the inputs excited at that bin
+        // (0 for the others).
+        let window_values = spectra::window(length);
+        let exact: Option<Vec<Vec<Vec<f64>>>> = response
+            .filter(|r| r.outputs() == p && r.inputs() == m && r.lags() + 1 >= length)
+            .and_then(|r| {
+                (0..p)
+                    .map(|o| (0..m).map(|i| r.expected_levels(o, i, length, &window_values)).collect())
+                    .collect()
+            });
         let mut gains = vec![vec![vec![0.0; m]; bins]; p];
-        for &b in &self.excited {
-            let active: Vec<usize> = (0..m).filter(|&i| self.excites(i, b)).collect();
+        if let Some(levels) = &exact {
             for (o, per_output) in gains.iter_mut().enumerate() {
-                let response = frequency_response(&self.segments, &outputs[o], &active, b);
-                for (&i, h) in active.iter().zip(response) {
-                    per_output[b][i] = h;
+                for (b, per_bin) in per_output.iter_mut().enumerate() {
+                    for (i, g) in per_bin.iter_mut().enumerate() {
+                        *g = levels[o][i][b];
+                    }
+                }
+            }
+        } else {
+            let outputs: Vec<_> =
+                (0..p).map(|o| spectra::segments(&|t| simulated[(t, o)], k, length)).collect();
+            for &b in &self.excited {
+                let active: Vec<usize> = (0..m).filter(|&i| self.excites(i, b)).collect();
+                for (o, per_output) in gains.iter_mut().enumerate() {
+                    let response = frequency_response(&self.segments, &outputs[o], &active, b);
+                    for (&i, h) in active.iter().zip(response) {
+                        per_output[b][i] = h;
+                    }
                 }
             }
         }
@@ -164,23 +232,46 @@ impl RecordedInputs {
             let (o, b) = rows[r];
             window * if c < p { f64::from(u8::from(c == o)) } else { gain(o, c - p, b) }
         });
-        let upper: Vec<f64> = (0..p).map(|_| f64::INFINITY).chain(self.ceilings.iter().copied()).collect();
-        let theta = whittle(&design, &level, &upper)?;
+        // The sensors' floors are free (≥ 0); an input's noise is held at the level its own quiet
+        // band shows where it has one, else read between 0 and its ceiling.
+        let bounds: Vec<(f64, f64)> = (0..p)
+            .map(|_| (0.0, f64::INFINITY))
+            .chain(self.ceilings.iter().zip(&self.quiet).map(|(&c, q)| q.map_or((0.0, c), |q| (q, q))))
+            .collect();
+        let theta = whittle(&design, &level, &bounds)?;
         let beta = &theta[p..];
-        let per_output: f64 =
-            rows.iter().map(|&(o, b)| (0..m).map(|i| beta[i] * gain(o, i, b)).sum::<f64>()).sum::<f64>()
-                * 2.0
-                / length as f64;
+        let per_output: f64 = (0..p)
+            .flat_map(|o| self.excited.iter().map(move |&b| (o, b)))
+            .map(|(o, b)| (0..m).map(|i| beta[i] * gain(o, i, b)).sum::<f64>())
+            .sum::<f64>()
+            * 2.0
+            / length as f64;
         let residual_power = k as f64 * per_output;
         let spectra = (0..p)
             .map(|o| {
                 let mut level = vec![theta[o]; bins];
-                for &b in &self.excited {
-                    level[b] += (0..m).map(|i| beta[i] * gain(o, i, b)).sum::<f64>();
+                if exact.is_some() {
+                    for (b, l) in level.iter_mut().enumerate() {
+                        *l += (0..m).map(|i| beta[i] * gain(o, i, b)).sum::<f64>();
+                    }
+                } else {
+                    for &b in &self.excited {
+                        level[b] += (0..m).map(|i| beta[i] * gain(o, i, b)).sum::<f64>();
+                    }
                 }
                 level
             })
             .collect();
+        let response_autocovariance = exact.is_some().then(|| {
+            let response = response.expect("exact levels come from a response");
+            (0..p)
+                .map(|o| {
+                    (0..=response.lags())
+                        .map(|l| (0..m).map(|i| beta[i] * response.autocovariance(o, i)[l]).sum())
+                        .collect()
+                })
+                .collect()
+        });
         let total: f64 = (0..p).map(|o| residual.col(o).squared_norm_l2()).sum();
         Some(InputNoise {
             inputs: self
@@ -197,6 +288,7 @@ impl RecordedInputs {
             share: if total > 0.0 { (residual_power / total).min(1.0) } else { 0.0 },
             spectra,
             floors: theta[..p].to_vec(),
+            response_autocovariance,
         })
     }
 }
@@ -265,20 +357,72 @@ fn ceiling(suu: &[f64], segments: usize, length: usize) -> f64 {
     CEILING_MARGIN * mean / (segments as f64 * spectra::window_power(length))
 }
 
+/// A recorded input's noise variance read from its quiet band: from its auto-spectrum `suu` (Σ
+/// over `segments` segments of |U_b|², bins 0…L/2 − 1 of a segment of `length`), the mean level
+/// of its bins below [`QUIET`] of its largest (DC aside; those above [`QUIET_OUTLIER`] times
+/// their median left out), over segments and window power — the variance of white noise with
+/// that level in every bin. `None` unless at least [`QUIET_BINS`] of its bins are quiet and
+/// their level is flat: the lower-frequency half of them within [`QUIET_FLATNESS`] of the upper
+/// half on average.
+///
+/// A transducer's noise is white across the record's band; the force a shaker applies is not. A
+/// chirp's or a band-limited force's bins above its band hold the recorded force's noise alone,
+/// flat, tens of dB under the band it excites — what an experimenter reads a transducer's noise
+/// from. Read from the residual instead, the noise is what the model's response to it leaves
+/// after the fit, and an output-error fit takes up part of it: at a lightly damped mode that
+/// response has only a few degrees of freedom over a record of seconds, and the stiffnesses and
+/// damping bend to match them where the force's own response there is brief (a chirp passes the
+/// mode once). On draw 20261353 the noise so read on chirps had a median of 0.65 % against the
+/// truth's 1 % (1.01 % with the model's exact response, but 0.00–0.45 % on four white nulls,
+/// whose residuals at the first mode held 40 % less than 1 % of noise puts there, by an
+/// independent scipy read of the fitted model). A force as broad as the record's band, or one
+/// whose band falls off without a flat floor (a low-passed noise's tail), has no quiet band,
+/// and its noise is read from the residual.
+fn quiet_level(suu: &[f64], segments: usize, length: usize) -> Option<f64> {
+    let largest = suu.iter().copied().filter(|l| l.is_finite()).fold(0.0, f64::max);
+    if segments == 0 || suu.len() < 2 || largest <= 0.0 {
+        return None;
+    }
+    let quiet: Vec<f64> =
+        suu.iter().skip(1).copied().filter(|l| l.is_finite() && *l < QUIET * largest).collect();
+    if (quiet.len() as f64) < QUIET_BINS * (suu.len() - 1) as f64 || quiet.len() < 4 {
+        return None;
+    }
+    // The force's own leakage at its band's edges lies far above the noise's level: bins above
+    // QUIET_OUTLIER times the quiet bins' median are left out (white noise's Welch levels
+    // exceed three times their median about once in 10⁴ bins).
+    let mut sorted = quiet.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted[sorted.len() / 2];
+    let quiet: Vec<f64> = quiet.into_iter().filter(|l| *l <= QUIET_OUTLIER * median).collect();
+    let half = quiet.len() / 2;
+    let mean = |x: &[f64]| x.iter().sum::<f64>() / x.len() as f64;
+    let (low, high) = (mean(&quiet[..half]), mean(&quiet[half..]));
+    if !(low > 0.0 && high > 0.0) || low.max(high) > QUIET_FLATNESS * low.min(high) {
+        return None;
+    }
+    Some(mean(&quiet) / (segments as f64 * spectra::window_power(length)))
+}
+
 /// θ maximising Whittle's likelihood of the levels P_r (mean periodograms, each a scaled χ²
-/// about its expectation (Xθ)_r), each θ_j in [0, `upper[j]`]: least squares weighted by
-/// 1/(Xθ)_r², reweighted [`PASSES`] times, a coefficient that leaves its bounds held at the bound
-/// it crossed (an active set: the most negative first, then the one furthest above its bound).
-fn whittle(design: &Mat<f64>, level: &[f64], upper: &[f64]) -> Option<Vec<f64>> {
+/// about its expectation (Xθ)_r), each θ_j in `bounds[j]` (lower, upper; a coefficient whose
+/// bounds meet is held there): least squares weighted by 1/(Xθ)_r², reweighted [`PASSES`]
+/// times, a coefficient that leaves its bounds held at the bound it crossed (an active set: the
+/// one furthest below its lower bound first, then the one furthest above its upper).
+fn whittle(design: &Mat<f64>, level: &[f64], bounds: &[(f64, f64)]) -> Option<Vec<f64>> {
     let (n, q) = (design.nrows(), design.ncols());
-    let bound = |j: usize| upper.get(j).copied().filter(|u| *u >= 0.0).unwrap_or(f64::INFINITY);
+    let lower = |j: usize| bounds.get(j).map_or(0.0, |b| b.0.max(0.0));
+    let upper =
+        |j: usize| bounds.get(j).map(|b| b.1).filter(|u| *u >= lower(j)).unwrap_or(f64::INFINITY);
     let mut fitted: Vec<f64> = level.to_vec();
     let floor = level.iter().copied().fold(0.0, f64::max) * 1e-12;
     let mut theta = vec![0.0; q];
     for _ in 0..PASSES {
         let weight: Vec<f64> = fitted.iter().map(|f| 1.0 / f.max(floor).max(f64::MIN_POSITIVE)).collect();
-        // Each coefficient free (None) or held at a bound.
-        let mut held: Vec<Option<f64>> = vec![None; q];
+        // Each coefficient free (None) or held at a bound; one whose bounds meet is held from
+        // the start.
+        let mut held: Vec<Option<f64>> =
+            (0..q).map(|j| (lower(j) >= upper(j)).then(|| lower(j))).collect();
         loop {
             let free: Vec<usize> = (0..q).filter(|&j| held[j].is_none()).collect();
             let fixed = |r: usize| (0..q).filter_map(|j| held[j].map(|v| design[(r, j)] * v)).sum::<f64>();
@@ -294,15 +438,15 @@ fn whittle(design: &Mat<f64>, level: &[f64], upper: &[f64]) -> Option<Vec<f64>> 
             let below = free
                 .iter()
                 .copied()
-                .filter(|&j| theta[j] < 0.0)
-                .min_by(|&a, &b| theta[a].total_cmp(&theta[b]));
+                .filter(|&j| theta[j] < lower(j))
+                .min_by(|&a, &b| (theta[a] - lower(a)).total_cmp(&(theta[b] - lower(b))));
             let above = || {
                 free.iter()
                     .copied()
-                    .filter(|&j| theta[j] > bound(j))
-                    .max_by(|&a, &b| (theta[a] / bound(a)).total_cmp(&(theta[b] / bound(b))))
+                    .filter(|&j| theta[j] > upper(j))
+                    .max_by(|&a, &b| (theta[a] / upper(a)).total_cmp(&(theta[b] / upper(b))))
             };
-            match below.map(|j| (j, 0.0)).or_else(|| above().map(|j| (j, bound(j)))) {
+            match below.map(|j| (j, lower(j))).or_else(|| above().map(|j| (j, upper(j)))) {
                 Some((j, value)) => held[j] = Some(value),
                 None => break,
             }
@@ -312,7 +456,7 @@ fn whittle(design: &Mat<f64>, level: &[f64], upper: &[f64]) -> Option<Vec<f64>> 
     theta
         .iter()
         .all(|t| t.is_finite())
-        .then_some(theta.into_iter().enumerate().map(|(j, t)| t.clamp(0.0, bound(j))).collect())
+        .then_some(theta.into_iter().enumerate().map(|(j, t)| t.clamp(lower(j), upper(j))).collect())
 }
 
 #[cfg(test)]
@@ -356,6 +500,43 @@ mod tests {
         let (share, of_residual) = estimated(0.0);
         assert!(share < 0.005, "σ/RMS(u) = {share} on a clean record");
         assert!(of_residual < 0.05, "{of_residual}");
+    }
+
+    /// The oscillator of [`estimated`], its force recorded with 3 % noise and read by a white
+    /// sensor (0.5 % of the response's RMS). Given the model's exact response, the noise is read
+    /// to within a tenth and its autocovariance is returned; H₁ of the simulation reads it
+    /// further off (the square of a window-averaged response at the resonance, narrower than a
+    /// bin, is not the window-averaged power the residual's periodogram holds).
+    #[test]
+    fn the_exact_response_reads_the_forces_noise_closer_than_h1() {
+        let (f, zeta, h, k, sigma) = (12.5, 0.01, 0.005, 4000, 0.03);
+        let u = normals(51, k);
+        let clean = driven_oscillator(f, zeta, h, &u);
+        let rms = (clean.iter().map(|y| y * y).sum::<f64>() / k as f64).sqrt();
+        let y: Vec<f64> = clean.iter().zip(normals(52, k)).map(|(y, n)| y + 0.005 * rms * n).collect();
+        let recorded: Vec<f64> = u.iter().zip(normals(53, k)).map(|(u, n)| u + sigma * n).collect();
+        let simulated = driven_oscillator(f, zeta, h, &recorded);
+        let data = forced_record(&recorded, &y, h);
+        let (a, b) = crate::frf::tests::oscillator(f, zeta);
+        let c = Mat::from_fn(1, 2, |_, j| f64::from(u8::from(j == 0)));
+        let inputs = super::RecordedInputs::of(&data, k).unwrap();
+        let response = crate::frf::NoiseResponse::new(
+            &crate::frf::tests::space(&a, &b, &c, None),
+            mem::Hold::Zero,
+            h,
+            &[1.0],
+            inputs.segment_length(),
+        )
+        .unwrap();
+        let (sim, res) =
+            (Mat::from_fn(k, 1, |t, _| simulated[t]), Mat::from_fn(k, 1, |t, _| y[t] - simulated[t]));
+        let exact = inputs.noise(&sim, &res, Some(&response)).unwrap();
+        let by_h1 = inputs.noise(&sim, &res, None).unwrap();
+        let truth = sigma / (recorded.iter().map(|x| x * x).sum::<f64>() / k as f64).sqrt();
+        let (read, h1) = (exact.inputs[0].share, by_h1.inputs[0].share);
+        assert!((read / truth - 1.0).abs() < 0.1, "read {read}, put {truth} (H₁: {h1})");
+        assert!((h1 / truth - 1.0).abs() > (read / truth - 1.0).abs(), "H₁ {h1}, exact {read}, put {truth}");
+        assert!(exact.response_autocovariance.is_some() && by_h1.response_autocovariance.is_none());
     }
 
     /// Two correlated forces (u₂ = 0.6 u₁ + 0.8 n), each driving its own oscillator read by
@@ -409,6 +590,57 @@ mod tests {
             );
         }
         assert!((noise.inputs[1].share - read[1] / rms(&r2)).abs() < 1e-12);
+    }
+
+    /// Welch auto-spectrum of `u` as [`super::RecordedInputs`] reads it, and its segments' count.
+    fn auto_spectrum(u: &[f64], length: usize) -> (Vec<f64>, usize) {
+        let segments = crate::frf::spectra::segments(&|t| u[t], u.len(), length);
+        ((0..length / 2).map(|b| super::auto(&segments, b)).collect(), segments.len())
+    }
+
+    /// A linear chirp 1 → 40 Hz over 10 s at 200 Hz (its own form here, with 0.2 s cosine
+    /// tapers) recorded with white noise of 1 % of its RMS: its quiet band above 40 Hz gives the
+    /// noise's variance to within a tenth, leakage at the band's edges left out. A white force
+    /// has no quiet band; a force low-passed four times at 10 Hz, recorded without noise, falls
+    /// below a thousandth of its peak without a flat floor, and no noise is read from it.
+    #[test]
+    fn the_noise_is_read_from_a_band_limited_forces_quiet_band_only() {
+        let (h, k) = (0.005, 2001);
+        let duration = (k - 1) as f64 * h;
+        let chirp: Vec<f64> = (0..k)
+            .map(|t| {
+                let time = t as f64 * h;
+                let phase = 2.0 * std::f64::consts::PI * (time + 39.0 * time * time / (2.0 * duration));
+                let taper = |x: f64| if x < 0.2 { 0.5 - 0.5 * (std::f64::consts::PI * x / 0.2).cos() } else { 1.0 };
+                taper(time) * taper(duration - time) * phase.sin()
+            })
+            .collect();
+        let rms = (chirp.iter().map(|x| x * x).sum::<f64>() / k as f64).sqrt();
+        let noise = normals(61, k);
+        let recorded: Vec<f64> = chirp.iter().zip(&noise).map(|(u, e)| u + 0.01 * rms * e).collect();
+        let length = k / 4;
+        let (suu, segments) = auto_spectrum(&recorded, length);
+        let read = super::quiet_level(&suu, segments, length).expect("a quiet band above 40 Hz");
+        let put = (0.01 * rms).powi(2);
+        assert!((read / put - 1.0).abs() < 0.1, "read {read}, put {put}");
+
+        let (white, segments) = auto_spectrum(&normals(62, k), length);
+        assert_eq!(super::quiet_level(&white, segments, length), None);
+
+        // Four first-order low-passes at 10 Hz (exact discretisation of each, from rest).
+        let a = (-2.0 * std::f64::consts::PI * 10.0 * h).exp();
+        let mut low = normals(63, k);
+        for _ in 0..4 {
+            let mut y = 0.0;
+            for x in &mut low {
+                y = a * y + (1.0 - a) * *x;
+                *x = y;
+            }
+        }
+        let (falling, segments) = auto_spectrum(&low, length);
+        let largest = falling.iter().copied().fold(0.0, f64::max);
+        assert!(falling.iter().filter(|l| **l < super::QUIET * largest).count() > length / 4);
+        assert_eq!(super::quiet_level(&falling, segments, length), None);
     }
 
     proptest::proptest! {

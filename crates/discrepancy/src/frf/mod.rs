@@ -27,10 +27,12 @@
 //! it is for the plain scan in white noise.
 
 mod input_noise;
+mod noise_response;
 mod scan;
 mod spectra;
 
 pub use input_noise::{InputNoise, InputNoiseLevel, RecordedInputs, input_noise};
+pub use noise_response::NoiseResponse;
 
 use era::EraMode;
 use faer::Mat;
@@ -309,6 +311,36 @@ pub(super) mod tests {
             .unwrap()
             .with_inputs(&["u"], Hold::Zero)
             .unwrap()
+    }
+
+    /// A and B of ÿ + 2ζω ẏ + ω² y = u (ω = 2πf) in the state [y, ẏ].
+    pub(crate) fn oscillator(f: f64, zeta: f64) -> (Mat<f64>, Mat<f64>) {
+        let w = 2.0 * std::f64::consts::PI * f;
+        let a = Mat::from_fn(2, 2, |r, c| match (r, c) {
+            (0, 1) => 1.0,
+            (1, 0) => -w * w,
+            (1, 1) => -2.0 * zeta * w,
+            _ => 0.0,
+        });
+        (a, Mat::from_fn(2, 1, |r, _| f64::from(u8::from(r == 1))))
+    }
+
+    /// The state space ẋ = A x + B u, y = C x + D u of faer matrices (x(0) = 0).
+    pub(crate) fn space(
+        a: &Mat<f64>,
+        b: &Mat<f64>,
+        c: &Mat<f64>,
+        d: Option<&Mat<f64>>,
+    ) -> mem::StateSpace<f64> {
+        let nalgebra =
+            |x: &Mat<f64>| mem::nalgebra::DMatrix::from_fn(x.nrows(), x.ncols(), |r, cc| x[(r, cc)]);
+        mem::StateSpace {
+            a: nalgebra(a),
+            c: nalgebra(c),
+            x0: mem::nalgebra::DVector::zeros(a.nrows()),
+            b: Some(nalgebra(b)),
+            d: d.map(nalgebra),
+        }
     }
 
     /// `n` seeded standard normals.

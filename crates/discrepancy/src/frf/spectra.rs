@@ -23,6 +23,11 @@ pub(super) fn window_power(length: usize) -> f64 {
     (0..length).map(|n| hann(n, length).powi(2)).sum()
 }
 
+/// The Hann window of `length` samples that [`segments`] applies.
+pub(super) fn window(length: usize) -> Vec<f64> {
+    (0..length).map(|n| hann(n, length)).collect()
+}
+
 fn hann(n: usize, length: usize) -> f64 {
     0.5 - 0.5 * (2.0 * std::f64::consts::PI * n as f64 / length as f64).cos()
 }
@@ -32,7 +37,7 @@ fn hann(n: usize, length: usize) -> f64 {
 pub(super) fn segments(x: &dyn Fn(usize) -> f64, k: usize, length: usize) -> Vec<Vec<(f64, f64)>> {
     let mean = (0..k).map(x).sum::<f64>() / k as f64;
     let hop = (length / 2).max(1);
-    let window: Vec<f64> = (0..length).map(|n| hann(n, length)).collect();
+    let window = window(length);
     let (cos, sin): (Vec<f64>, Vec<f64>) = (0..length)
         .map(|n| {
             let a = 2.0 * std::f64::consts::PI * n as f64 / length as f64;
