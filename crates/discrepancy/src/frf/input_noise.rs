@@ -14,6 +14,11 @@
 //! Whittle's likelihood (iteratively reweighted least squares, each bin weighted by the inverse
 //! square of its fitted level; Whittle 1953), every one of them held ≥ 0.
 //!
+//! Where the recorded force has a quiet band — bins far under the band it excites, flat, as a
+//! chirp's or a band-limited force's above its band are — that band holds e alone, and β_i is
+//! read there and held in the fit ([`RecordedInputs::quiet_levels`]): read from the residual,
+//! an output-error fit has taken up part of the model's response to e.
+//!
 //! An effect that acts through the dynamics can take up part of the model's response to e — a
 //! dry friction or a drag at the driven floor damps the small, quick motion e drives more than
 //! the large one the force drives — and so gain on a record with nothing missing but a clean
@@ -107,7 +112,7 @@ pub const QUIET: f64 = 1e-3;
 /// its noise's.
 pub const QUIET_BINS: f64 = 0.125;
 
-/// The quiet bins' level must be flat — the mean of the lower-frequency half of them within
+/// The quiet bins' level must be flat — the median of the lower-frequency half of them within
 /// this factor of the upper half's — to be read as white noise, not a falling tail of the force.
 pub const QUIET_FLATNESS: f64 = 1.5;
 
@@ -363,7 +368,7 @@ fn ceiling(suu: &[f64], segments: usize, length: usize) -> f64 {
 /// their median left out), over segments and window power — the variance of white noise with
 /// that level in every bin. `None` unless at least [`QUIET_BINS`] of its bins are quiet and
 /// their level is flat: the lower-frequency half of them within [`QUIET_FLATNESS`] of the upper
-/// half on average.
+/// half, by their medians.
 ///
 /// A transducer's noise is white across the record's band; the force a shaker applies is not. A
 /// chirp's or a band-limited force's bins above its band hold the recorded force's noise alone,
@@ -373,10 +378,12 @@ fn ceiling(suu: &[f64], segments: usize, length: usize) -> f64 {
 /// response has only a few degrees of freedom over a record of seconds, and the stiffnesses and
 /// damping bend to match them where the force's own response there is brief (a chirp passes the
 /// mode once). On draw 20261353 the noise so read on chirps had a median of 0.65 % against the
-/// truth's 1 % (1.01 % with the model's exact response, but 0.00–0.45 % on four white nulls,
-/// whose residuals at the first mode held 40 % less than 1 % of noise puts there, by an
-/// independent scipy read of the fitted model). A force as broad as the record's band, or one
-/// whose band falls off without a flat floor (a low-passed noise's tail), has no quiet band,
+/// truth's 1 % (0.00–0.72 % on six of its seven white nulls); on one of them (`B_white_54`,
+/// read 0.00 %) the residual of the fitted model held, at 2–6 Hz where its first mode lies,
+/// 40 % less than 1 % of noise on the force and the sensors' floor put there (an independent
+/// scipy read of the fitted model's exact response, `studies/structure/quiet_read.py`). Read
+/// from the quiet band, the seven read 0.97–1.03 %. A force as broad as the record's band, or
+/// one whose band falls off without a flat floor (a low-passed noise's tail), has no quiet band,
 /// and its noise is read from the residual.
 fn quiet_level(suu: &[f64], segments: usize, length: usize) -> Option<f64> {
     let largest = suu.iter().copied().filter(|l| l.is_finite()).fold(0.0, f64::max);
@@ -388,19 +395,24 @@ fn quiet_level(suu: &[f64], segments: usize, length: usize) -> Option<f64> {
     if (quiet.len() as f64) < QUIET_BINS * (suu.len() - 1) as f64 || quiet.len() < 4 {
         return None;
     }
-    // The force's own leakage at its band's edges lies far above the noise's level: bins above
-    // QUIET_OUTLIER times the quiet bins' median are left out (white noise's Welch levels
-    // exceed three times their median about once in 10⁴ bins).
-    let mut sorted = quiet.clone();
-    sorted.sort_by(f64::total_cmp);
-    let median = sorted[sorted.len() / 2];
-    let quiet: Vec<f64> = quiet.into_iter().filter(|l| *l <= QUIET_OUTLIER * median).collect();
+    // Flat: the median of the lower-frequency half of the quiet bins within QUIET_FLATNESS of
+    // the upper half's (medians, so that the force's leakage at its band's edges does not count).
+    let median = |x: &[f64]| {
+        let mut sorted = x.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        sorted[sorted.len() / 2]
+    };
     let half = quiet.len() / 2;
-    let mean = |x: &[f64]| x.iter().sum::<f64>() / x.len() as f64;
-    let (low, high) = (mean(&quiet[..half]), mean(&quiet[half..]));
+    let (low, high) = (median(&quiet[..half]), median(&quiet[half..]));
     if !(low > 0.0 && high > 0.0) || low.max(high) > QUIET_FLATNESS * low.min(high) {
         return None;
     }
+    // The level: the mean of the quiet bins, the leakage left out — bins above QUIET_OUTLIER
+    // times their median (white noise's Welch levels exceed three times their median about once
+    // in 10⁴ bins).
+    let cut = QUIET_OUTLIER * median(&quiet);
+    let quiet: Vec<f64> = quiet.into_iter().filter(|l| *l <= cut).collect();
+    let mean = |x: &[f64]| x.iter().sum::<f64>() / x.len() as f64;
     Some(mean(&quiet) / (segments as f64 * spectra::window_power(length)))
 }
 
