@@ -80,7 +80,12 @@ impl Weighted {
         let simulated = Mat::from_fn(k, p, |t, o| first.weights[o] * first.final_sensed[(t, o)]);
         let error = residual.squared_norm_l2();
         let lags = inputs.segment_length().max(MAX_PREDICTOR_ORDER);
-        let response = exact_response(outcome, lags).or_else(|| exact_response(fallback, lags));
+        // A force the fit added bends the model's response to the noise about the response to
+        // the force (a strong spring's tangent stiffness): its linear part's exact response is
+        // not the noise's, and H₁ of the fit's own simulation reads it.
+        let linear = outcome.fitted.as_structure().is_none_or(structure::StructureModel::is_linear);
+        let response =
+            linear.then(|| exact_response(outcome, lags).or_else(|| exact_response(fallback, lags))).flatten();
         Self { simulated, residual, error, response }
     }
 
