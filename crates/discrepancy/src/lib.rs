@@ -12,9 +12,11 @@
 //!    values from the model and the data), in parallel;
 //! 4. **scores** every candidate by the same likelihood of the same data — Gaussian AR(1) noise
 //!    per output, its parameters profiled ([`diagnose::evidence`]); on a record whose measured
-//!    force carries noise, that noise through the model's exact sampled response (the discrete
-//!    Lyapunov equation, [`frf::NoiseResponse`]) beside the sensor's floor, predicted to order
-//!    20 (errors in variables; Pintelon & Schoukens 2012, §7.2) — in sample (ΔBIC) and on
+//!    force carries noise, that noise (its level read from the force's own quiet band where it
+//!    has one) through a linear model's exact sampled response (the discrete Lyapunov
+//!    equation, [`frf::NoiseResponse`]) beside the sensor's floor, predicted to the order at
+//!    which its error converges (errors in variables; Pintelon & Schoukens 2012, §7.2) — in
+//!    sample (ΔBIC) and on
 //!    held-out blocks (fitted on alternate blocks, scored on the others), with the model's own
 //!    linear parameters freed as well so that a parameter mismatch is not named as an effect;
 //! 5. names the effect that passes every test with the most held-out evidence, or answers

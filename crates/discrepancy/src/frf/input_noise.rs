@@ -378,12 +378,13 @@ fn ceiling(suu: &[f64], segments: usize, length: usize) -> f64 {
 /// response has only a few degrees of freedom over a record of seconds, and the stiffnesses and
 /// damping bend to match them where the force's own response there is brief (a chirp passes the
 /// mode once). On draw 20261353 the noise so read on chirps had a median of 0.65 % against the
-/// truth's 1 % (0.00–0.72 % on six of its seven white nulls); on one of them (`B_white_54`,
-/// read 0.00 %) the residual of the fitted model held, at 2–6 Hz where its first mode lies,
-/// 40 % less than 1 % of noise on the force and the sensors' floor put there (an independent
-/// scipy read of the fitted model's exact response, `studies/structure/quiet_read.py`). Read
-/// from the quiet band, the seven read 0.97–1.03 %. A force as broad as the record's band, or
-/// one whose band falls off without a flat floor (a low-passed noise's tail), has no quiet band,
+/// truth's 1 % (0.28–0.63 % on its seven white chirp nulls by H₁; 0.00–0.97 % through the
+/// model's exact response); on one of them (`B_white_54`, read 0.00 % through the exact
+/// response) the residual of the fitted model held, at 2–6 Hz where its first mode lies, 39–51 %
+/// less than 1 % of noise on the force and the sensors' floor put there (an independent scipy
+/// read of the fitted model's exact response, `studies/structure/quiet_read.py`). Read from the
+/// quiet band, the seven read 0.97–1.03 %. A force as broad as the record's band, or one whose
+/// band falls off without a flat floor (a low-passed noise's tail), has no quiet band,
 /// and its noise is read from the residual.
 fn quiet_level(suu: &[f64], segments: usize, length: usize) -> Option<f64> {
     let largest = suu.iter().copied().filter(|l| l.is_finite()).fold(0.0, f64::max);
