@@ -158,6 +158,27 @@ fn bench_forced(c: &mut Criterion) {
     group.bench_function("frf/input_noise_forced_2001", |b| {
         b.iter(|| discrepancy::frf::input_noise(black_box(&data), &series, &series))
     });
+    // The fitted model's exact response to white noise on its force (the discrete Lyapunov
+    // equation by doubling, then 500 lags: a Welch segment of the 2,001-sample record), once per
+    // fit whose force's noise is read (`frf::NoiseResponse`).
+    let structure = model.as_structure().expect("a structure");
+    let space = structure.state_space::<f64>(&structure.values()).unwrap();
+    let weights = vec![1.0; data.n_outputs()];
+    assert!(
+        discrepancy::frf::NoiseResponse::new(&space, mem::Hold::Zero, data.interval(), &weights, 500)
+            .is_some()
+    );
+    group.bench_function("frf/noise_response_forced_500_lags", |b| {
+        b.iter(|| {
+            discrepancy::frf::NoiseResponse::new(
+                black_box(&space),
+                mem::Hold::Zero,
+                data.interval(),
+                &weights,
+                500,
+            )
+        })
+    });
     let options = DiagnoseOptions::new(&["k1", "k2", "k3", "alpha", "beta"]);
     group.bench_function("diagnose/shear_building_forced_appendage_q3", |b| {
         b.iter(|| diagnose(black_box(&model), &raw, &options).unwrap())

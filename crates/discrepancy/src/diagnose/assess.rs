@@ -62,7 +62,8 @@ impl Assess<'_> {
         // On a forced record, the residual's resonances are read under the noise the reference's
         // residual shows: where the force's noise colours it, its response at the modelled
         // modes is noise, not a mode the model lacks (the seeds of the unmodeled modes).
-        let prior = data.inputs().map(|_| score::measurement_model(&reference.outcome, &reference.outcome, data));
+        let prior =
+            data.inputs().map(|_| score::measurement_model(&reference.outcome, &reference.outcome, data));
         let whiten =
             prior.as_ref().map(|n| n.predictors.as_slice()).filter(|p| p.iter().any(Option::is_some));
         let localisation = localise_under(data, &reference.outcome, whiten);

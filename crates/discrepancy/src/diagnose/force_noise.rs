@@ -84,8 +84,9 @@ impl Weighted {
         // the force (a strong spring's tangent stiffness): its linear part's exact response is
         // not the noise's, and H₁ of the fit's own simulation reads it.
         let linear = outcome.fitted.as_structure().is_none_or(structure::StructureModel::is_linear);
-        let response =
-            linear.then(|| exact_response(outcome, lags).or_else(|| exact_response(fallback, lags))).flatten();
+        let response = linear
+            .then(|| exact_response(outcome, lags).or_else(|| exact_response(fallback, lags)))
+            .flatten();
         Self { simulated, residual, error, response }
     }
 

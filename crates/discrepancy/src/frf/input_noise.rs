@@ -425,8 +425,7 @@ fn quiet_level(suu: &[f64], segments: usize, length: usize) -> Option<f64> {
 fn whittle(design: &Mat<f64>, level: &[f64], bounds: &[(f64, f64)]) -> Option<Vec<f64>> {
     let (n, q) = (design.nrows(), design.ncols());
     let lower = |j: usize| bounds.get(j).map_or(0.0, |b| b.0.max(0.0));
-    let upper =
-        |j: usize| bounds.get(j).map(|b| b.1).filter(|u| *u >= lower(j)).unwrap_or(f64::INFINITY);
+    let upper = |j: usize| bounds.get(j).map(|b| b.1).filter(|u| *u >= lower(j)).unwrap_or(f64::INFINITY);
     let mut fitted: Vec<f64> = level.to_vec();
     let floor = level.iter().copied().fold(0.0, f64::max) * 1e-12;
     let mut theta = vec![0.0; q];
@@ -434,8 +433,7 @@ fn whittle(design: &Mat<f64>, level: &[f64], bounds: &[(f64, f64)]) -> Option<Ve
         let weight: Vec<f64> = fitted.iter().map(|f| 1.0 / f.max(floor).max(f64::MIN_POSITIVE)).collect();
         // Each coefficient free (None) or held at a bound; one whose bounds meet is held from
         // the start.
-        let mut held: Vec<Option<f64>> =
-            (0..q).map(|j| (lower(j) >= upper(j)).then(|| lower(j))).collect();
+        let mut held: Vec<Option<f64>> = (0..q).map(|j| (lower(j) >= upper(j)).then(|| lower(j))).collect();
         loop {
             let free: Vec<usize> = (0..q).filter(|&j| held[j].is_none()).collect();
             let fixed = |r: usize| (0..q).filter_map(|j| held[j].map(|v| design[(r, j)] * v)).sum::<f64>();
@@ -624,7 +622,8 @@ mod tests {
             .map(|t| {
                 let time = t as f64 * h;
                 let phase = 2.0 * std::f64::consts::PI * (time + 39.0 * time * time / (2.0 * duration));
-                let taper = |x: f64| if x < 0.2 { 0.5 - 0.5 * (std::f64::consts::PI * x / 0.2).cos() } else { 1.0 };
+                let taper =
+                    |x: f64| if x < 0.2 { 0.5 - 0.5 * (std::f64::consts::PI * x / 0.2).cos() } else { 1.0 };
                 taper(time) * taper(duration - time) * phase.sin()
             })
             .collect();
