@@ -30,8 +30,11 @@ use faer::linalg::solvers::SolveLstsq;
 use mem::Measurement;
 use serde::Serialize;
 
-/// Reweighting passes of the Whittle fit.
-const PASSES: usize = 12;
+mod quiet;
+mod whittle;
+
+use quiet::quiet_level;
+use whittle::whittle;
 
 /// One recorded input's estimated noise.
 #[derive(Clone, Debug, Serialize)]
@@ -103,21 +106,6 @@ pub const CEILING_MARGIN: f64 = 2.0;
 
 /// The share of a recorded input's spectral bins, its lowest, whose mean is its floor.
 pub const FLOOR_BINS: f64 = 0.25;
-
-/// A recorded input's bin is quiet where its level lies below this share of its largest
-/// ([`RecordedInputs::quiet_levels`]): 30 dB under the band it excites.
-pub const QUIET: f64 = 1e-3;
-
-/// The least share of a recorded input's bins that must be quiet for their level to be read as
-/// its noise's.
-pub const QUIET_BINS: f64 = 0.125;
-
-/// The quiet bins' level must be flat — the median of the lower-frequency half of them within
-/// this factor of the upper half's — to be read as white noise, not a falling tail of the force.
-pub const QUIET_FLATNESS: f64 = 1.5;
-
-/// Quiet bins above this multiple of their median are the force's leakage, not its noise.
-pub const QUIET_OUTLIER: f64 = 3.0;
 
 impl RecordedInputs {
     /// `data`'s inputs on a grid of `k` rows; `None` without inputs, with fewer than 64 samples,
@@ -362,114 +350,6 @@ fn ceiling(suu: &[f64], segments: usize, length: usize) -> f64 {
     CEILING_MARGIN * mean / (segments as f64 * spectra::window_power(length))
 }
 
-/// A recorded input's noise variance read from its quiet band: from its auto-spectrum `suu` (Σ
-/// over `segments` segments of |U_b|², bins 0…L/2 − 1 of a segment of `length`), the mean level
-/// of its bins below [`QUIET`] of its largest (DC aside; those above [`QUIET_OUTLIER`] times
-/// their median left out), over segments and window power — the variance of white noise with
-/// that level in every bin. `None` unless at least [`QUIET_BINS`] of its bins are quiet and
-/// their level is flat: the lower-frequency half of them within [`QUIET_FLATNESS`] of the upper
-/// half, by their medians.
-///
-/// A transducer's noise is white across the record's band; the force a shaker applies is not. A
-/// chirp's or a band-limited force's bins above its band hold the recorded force's noise alone,
-/// flat, tens of dB under the band it excites — what an experimenter reads a transducer's noise
-/// from. Read from the residual instead, the noise is what the model's response to it leaves
-/// after the fit, and an output-error fit takes up part of it: at a lightly damped mode that
-/// response has only a few degrees of freedom over a record of seconds, and the stiffnesses and
-/// damping bend to match them where the force's own response there is brief (a chirp passes the
-/// mode once). On draw 20261353 the noise so read on chirps had a median of 0.65 % against the
-/// truth's 1 % (0.28–0.63 % on its seven white chirp nulls by H₁; 0.00–0.97 % through the
-/// model's exact response); on one of them (`B_white_54`, read 0.00 % through the exact
-/// response) the residual of the fitted model held, at 2–6 Hz where its first mode lies, 39–51 %
-/// less than 1 % of noise on the force and the sensors' floor put there (an independent scipy
-/// read of the fitted model's exact response, `studies/structure/quiet_read.py`). Read from the
-/// quiet band, the seven read 0.97–1.03 %. A force as broad as the record's band, or one whose
-/// band falls off without a flat floor (a low-passed noise's tail), has no quiet band,
-/// and its noise is read from the residual.
-fn quiet_level(suu: &[f64], segments: usize, length: usize) -> Option<f64> {
-    let largest = suu.iter().copied().filter(|l| l.is_finite()).fold(0.0, f64::max);
-    if segments == 0 || suu.len() < 2 || largest <= 0.0 {
-        return None;
-    }
-    let quiet: Vec<f64> =
-        suu.iter().skip(1).copied().filter(|l| l.is_finite() && *l < QUIET * largest).collect();
-    if (quiet.len() as f64) < QUIET_BINS * (suu.len() - 1) as f64 || quiet.len() < 4 {
-        return None;
-    }
-    // Flat: the median of the lower-frequency half of the quiet bins within QUIET_FLATNESS of
-    // the upper half's (medians, so that the force's leakage at its band's edges does not count).
-    let median = |x: &[f64]| {
-        let mut sorted = x.to_vec();
-        sorted.sort_by(f64::total_cmp);
-        sorted[sorted.len() / 2]
-    };
-    let half = quiet.len() / 2;
-    let (low, high) = (median(&quiet[..half]), median(&quiet[half..]));
-    if !(low > 0.0 && high > 0.0) || low.max(high) > QUIET_FLATNESS * low.min(high) {
-        return None;
-    }
-    // The level: the mean of the quiet bins, the leakage left out — bins above QUIET_OUTLIER
-    // times their median (white noise's Welch levels exceed three times their median about once
-    // in 10⁴ bins).
-    let cut = QUIET_OUTLIER * median(&quiet);
-    let quiet: Vec<f64> = quiet.into_iter().filter(|l| *l <= cut).collect();
-    let mean = |x: &[f64]| x.iter().sum::<f64>() / x.len() as f64;
-    Some(mean(&quiet) / (segments as f64 * spectra::window_power(length)))
-}
-
-/// θ maximising Whittle's likelihood of the levels P_r (mean periodograms, each a scaled χ²
-/// about its expectation (Xθ)_r), each θ_j in `bounds[j]` (lower, upper; a coefficient whose
-/// bounds meet is held there): least squares weighted by 1/(Xθ)_r², reweighted [`PASSES`]
-/// times, a coefficient that leaves its bounds held at the bound it crossed (an active set: the
-/// one furthest below its lower bound first, then the one furthest above its upper).
-fn whittle(design: &Mat<f64>, level: &[f64], bounds: &[(f64, f64)]) -> Option<Vec<f64>> {
-    let (n, q) = (design.nrows(), design.ncols());
-    let lower = |j: usize| bounds.get(j).map_or(0.0, |b| b.0.max(0.0));
-    let upper = |j: usize| bounds.get(j).map(|b| b.1).filter(|u| *u >= lower(j)).unwrap_or(f64::INFINITY);
-    let mut fitted: Vec<f64> = level.to_vec();
-    let floor = level.iter().copied().fold(0.0, f64::max) * 1e-12;
-    let mut theta = vec![0.0; q];
-    for _ in 0..PASSES {
-        let weight: Vec<f64> = fitted.iter().map(|f| 1.0 / f.max(floor).max(f64::MIN_POSITIVE)).collect();
-        // Each coefficient free (None) or held at a bound; one whose bounds meet is held from
-        // the start.
-        let mut held: Vec<Option<f64>> = (0..q).map(|j| (lower(j) >= upper(j)).then(|| lower(j))).collect();
-        loop {
-            let free: Vec<usize> = (0..q).filter(|&j| held[j].is_none()).collect();
-            let fixed = |r: usize| (0..q).filter_map(|j| held[j].map(|v| design[(r, j)] * v)).sum::<f64>();
-            theta = (0..q).map(|j| held[j].unwrap_or(0.0)).collect();
-            if !free.is_empty() {
-                let x = Mat::from_fn(n, free.len(), |r, c| weight[r] * design[(r, free[c])]);
-                let y = Mat::from_fn(n, 1, |r, _| weight[r] * (level[r] - fixed(r)));
-                let solution = x.qr().solve_lstsq(&y);
-                for (c, &j) in free.iter().enumerate() {
-                    theta[j] = solution[(c, 0)];
-                }
-            }
-            let below = free
-                .iter()
-                .copied()
-                .filter(|&j| theta[j] < lower(j))
-                .min_by(|&a, &b| (theta[a] - lower(a)).total_cmp(&(theta[b] - lower(b))));
-            let above = || {
-                free.iter()
-                    .copied()
-                    .filter(|&j| theta[j] > upper(j))
-                    .max_by(|&a, &b| (theta[a] / upper(a)).total_cmp(&(theta[b] / upper(b))))
-            };
-            match below.map(|j| (j, lower(j))).or_else(|| above().map(|j| (j, upper(j)))) {
-                Some((j, value)) => held[j] = Some(value),
-                None => break,
-            }
-        }
-        fitted = (0..n).map(|r| (0..q).map(|c| design[(r, c)] * theta[c]).sum()).collect();
-    }
-    theta
-        .iter()
-        .all(|t| t.is_finite())
-        .then_some(theta.into_iter().enumerate().map(|(j, t)| t.clamp(lower(j), upper(j))).collect())
-}
-
 #[cfg(test)]
 mod tests {
     use super::input_noise;
@@ -651,7 +531,7 @@ mod tests {
         }
         let (falling, segments) = auto_spectrum(&low, length);
         let largest = falling.iter().copied().fold(0.0, f64::max);
-        assert!(falling.iter().filter(|l| **l < super::QUIET * largest).count() > length / 4);
+        assert!(falling.iter().filter(|l| **l < super::quiet::QUIET * largest).count() > length / 4);
         assert_eq!(super::quiet_level(&falling, segments, length), None);
     }
 
