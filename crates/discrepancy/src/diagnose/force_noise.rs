@@ -60,39 +60,42 @@ pub const FORCE_NOISE_SHARE: f64 = 0.5;
 pub const FORCE_NOISE_EXEMPT: f64 = 110.0;
 
 /// A fit's weighted simulated outputs and residual (K × p), as [`RecordedInputs::noise`]
-/// reads them, the residual's weighted sum of squares, and the fitted model's exact response to
-/// white noise on its inputs where it has one ([`exact_response`]) — or, where it has none (an
-/// added mode refitted without damping, which does not decay), the `fallback` model's, the
-/// reference's linear one.
-struct Weighted {
+/// reads them, the residual's weighted sum of squares, and the fits whose exact response to
+/// white noise on the inputs the read takes ([`Weighted::noise`]).
+struct Weighted<'a> {
     simulated: Mat<f64>,
     residual: Mat<f64>,
     error: f64,
-    response: Option<NoiseResponse>,
+    outcome: &'a FitOutcome,
+    fallback: &'a FitOutcome,
 }
 
-impl Weighted {
-    fn of(outcome: &FitOutcome, fallback: &FitOutcome, inputs: &RecordedInputs) -> Self {
+impl<'a> Weighted<'a> {
+    fn of(outcome: &'a FitOutcome, fallback: &'a FitOutcome) -> Self {
         let first = outcome.first();
         let (k, p) = (first.final_sensed.nrows(), first.final_sensed.ncols());
         let raw = first.residual();
         let residual = Mat::from_fn(k, p, |t, o| first.weights[o] * raw[(t, o)]);
         let simulated = Mat::from_fn(k, p, |t, o| first.weights[o] * first.final_sensed[(t, o)]);
         let error = residual.squared_norm_l2();
+        Self { simulated, residual, error, outcome, fallback }
+    }
+
+    /// The noise on `inputs` as this fit shows it ([`RecordedInputs::noise`]), through the
+    /// fitted model's exact response to white noise on its inputs where it has one
+    /// ([`exact_response`]) — or, where it has none (an added mode refitted without damping,
+    /// which does not decay), the `fallback` model's, the reference's linear one. The response
+    /// is computed here, for the fits whose noise is read, not for every candidate screened.
+    fn noise(&self, inputs: &RecordedInputs) -> Option<InputNoise> {
         let lags = inputs.segment_length().max(MAX_PREDICTOR_ORDER);
         // A force the fit added bends the model's response to the noise about the response to
         // the force (a strong spring's tangent stiffness): its linear part's exact response is
         // not the noise's, and H₁ of the fit's own simulation reads it.
-        let linear = outcome.fitted.as_structure().is_none_or(structure::StructureModel::is_linear);
+        let linear = self.outcome.fitted.as_structure().is_none_or(structure::StructureModel::is_linear);
         let response = linear
-            .then(|| exact_response(outcome, lags).or_else(|| exact_response(fallback, lags)))
+            .then(|| exact_response(self.outcome, lags).or_else(|| exact_response(self.fallback, lags)))
             .flatten();
-        Self { simulated, residual, error, response }
-    }
-
-    /// The noise on `inputs` as this fit shows it ([`RecordedInputs::noise`]).
-    fn noise(&self, inputs: &RecordedInputs) -> Option<InputNoise> {
-        inputs.noise(&self.simulated, &self.residual, self.response.as_ref())
+        inputs.noise(&self.simulated, &self.residual, response.as_ref())
     }
 }
 
@@ -131,24 +134,31 @@ pub(super) fn screen(
     data: &Measurement,
 ) -> Option<InputNoise> {
     let inputs = RecordedInputs::of(data, data.n_samples())?;
-    let before = Weighted::of(reference, reference, &inputs);
+    let before = Weighted::of(reference, reference);
     let fits: Vec<Option<Weighted>> =
-        candidates.iter().map(|c| c.outcome.as_ref().map(|o| Weighted::of(o, reference, &inputs))).collect();
+        candidates.iter().map(|c| c.outcome.as_ref().map(|o| Weighted::of(o, reference))).collect();
     let best =
         fits.iter().flatten().chain(std::iter::once(&before)).min_by(|a, b| a.error.total_cmp(&b.error))?;
     let noise = best.noise(&inputs)?;
-    for ((candidate, trial), fit) in candidates.iter_mut().zip(trials).zip(&fits) {
-        let Some(fit) = fit else { continue };
-        if candidate.verdict != Verdict::Outscored || !takes_up_the_response(trial.kind) {
-            continue;
-        }
-        // What the force's noise accounts for in what this refit leaves: a refit that only
-        // takes up part of the model's response to that noise leaves the rest of it.
-        if candidate.evidence.held_out.is_some_and(|h| h > FORCE_NOISE_EXEMPT) {
-            continue;
-        }
-        let Some(left) = fit.noise(&inputs) else { continue };
-        if before.error - fit.error < FORCE_NOISE_SHARE * left.residual_power {
+    let within: Vec<bool> = candidates
+        .iter()
+        .zip(trials)
+        .zip(&fits)
+        .map(|((candidate, trial), fit)| {
+            let Some(fit) = fit else { return false };
+            // What the force's noise accounts for in what this refit leaves: a refit that only
+            // takes up part of the model's response to that noise leaves the rest of it.
+            candidate.verdict == Verdict::Outscored
+                && takes_up_the_response(trial.kind)
+                && !candidate.evidence.held_out.is_some_and(|h| h > FORCE_NOISE_EXEMPT)
+                && fit
+                    .noise(&inputs)
+                    .is_some_and(|left| before.error - fit.error < FORCE_NOISE_SHARE * left.residual_power)
+        })
+        .collect();
+    drop(fits);
+    for (candidate, within) in candidates.iter_mut().zip(within) {
+        if within {
             candidate.verdict = Verdict::WithinForceNoise;
         }
     }
@@ -185,7 +195,7 @@ fn takes_up_the_response(kind: EffectKind) -> bool {
 /// model where that has no stationary response); `None` for a record without inputs.
 pub(super) fn read(best: &FitOutcome, reference: &FitOutcome, data: &Measurement) -> Option<InputNoise> {
     let inputs = RecordedInputs::of(data, best.first().final_sensed.nrows())?;
-    Weighted::of(best, reference, &inputs).noise(&inputs)
+    Weighted::of(best, reference).noise(&inputs)
 }
 
 /// The least order of the noise's predictor on a forced record ([`NoiseModel::predictors`]).
@@ -394,14 +404,7 @@ const FLOOR_COLOUR_GRID: usize = 40;
 /// −(n/2) ln(U/n) of `series` under `predictor`, U its scaled innovations' sum of squares (the
 /// likelihood the evidence scores, [`NoiseModel::log_likelihoods`]).
 fn profile_likelihood(predictor: &Predictor, series: &[f64]) -> f64 {
-    let q = predictor.order();
-    let mut past: Vec<f64> = Vec::with_capacity(q + 1);
-    let mut u = 0.0;
-    for &e in series {
-        u += predictor.squared_innovation(e, &past);
-        past.insert(0, e);
-        past.truncate(q);
-    }
+    let u: f64 = predictor.whitened(series).iter().map(|w| w * w).sum();
     let n = series.len() as f64;
     if u > 0.0 && n > 0.0 { -0.5 * n * (u / n).ln() } else { f64::NEG_INFINITY }
 }

@@ -265,8 +265,9 @@ fn own_structure(
 ) -> Vec<f64> {
     let read = (!noise.predictors.is_empty()).then(|| force_noise::read(outcome, reference, data)).flatten();
     let Some(read) = read else { return shared.to_vec() };
-    let own = with_force_noise(noise.clone(), &read, &outcome.first().residual());
-    let again = evidence::structure_per_output(&outcome.first().residual(), &own);
+    let residual = outcome.first().residual();
+    let own = with_force_noise(noise.clone(), &read, &residual);
+    let again = evidence::structure_per_output(&residual, &own);
     shared.iter().enumerate().map(|(o, &here)| again.get(o).map_or(here, |&s| s.min(here))).collect()
 }
 

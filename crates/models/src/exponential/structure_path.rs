@@ -275,6 +275,9 @@ const FRICTION_STEP: f64 = 0.25;
 /// `a_strong_sharp_friction_is_integrated_at_a_substep_it_holds`). The diagnosis's estimate of
 /// that friction was the same at both (4,462 N), its time 10 s against 22 s.
 fn friction_step(model: &StructureModel, all: &[f64]) -> f64 {
+    if !model.effects().iter().any(|e| matches!(e, structure::Effect::DryFriction { .. })) {
+        return f64::INFINITY;
+    }
     let names = model.parameter_names();
     let value = |name: String| names.iter().position(|n| *n == name).and_then(|i| all.get(i).copied());
     let coordinates = model.coordinates();
