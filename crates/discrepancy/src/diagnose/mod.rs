@@ -350,6 +350,7 @@ fn failed(trial: &Trial, why: String) -> Candidate {
     Candidate {
         kind: trial.kind,
         sensor: trial.sensor,
+        output: trial.output,
         label: trial.label.clone(),
         replaces: trial.replaces,
         parameters: Vec::new(),

@@ -66,6 +66,7 @@ pub(super) fn quantization_candidates(
         let mut candidate = Candidate {
             kind: EffectKind::SensorQuantization,
             sensor,
+            output: Some(o),
             label: format!("sensor_quantization({name})"),
             replaces: None,
             parameters: vec![EffectParameter {

@@ -131,7 +131,7 @@ impl Scoring<'_> {
                     reference_on_output.get(o).copied().unwrap_or(0.0),
                 )
             };
-            (share(left.iter().sum(), reference_structure), output.map(on))
+            (share(left.iter().sum(), reference_structure), output.map(on), left.iter().sum::<f64>())
         };
         let mut candidates: Vec<Candidate> = trials
             .iter()
@@ -143,7 +143,7 @@ impl Scoring<'_> {
                     // A swap trades the replaced effect's parameters for its own.
                     let added =
                         parameters.len() - usize::from(trial.replaces.is_some()).min(parameters.len());
-                    let (structure_explained, sensor_structure_explained) =
+                    let (structure_explained, sensor_structure_explained, structure_left) =
                         explained(&fit.outcome, trial.output);
                     let evidence = Evidence {
                         in_sample,
@@ -153,6 +153,8 @@ impl Scoring<'_> {
                         reduction: 1.0 - last_error(&fit.outcome) / last_error(&reference.outcome),
                         whiteness_p: run::whiteness(&fit.outcome),
                         structure_explained,
+                        structure_held: reference_structure,
+                        structure_left,
                         sensor_structure_explained,
                     };
                     let verdict = if evidence.delta_bic >= -options.bic_threshold {
@@ -165,6 +167,7 @@ impl Scoring<'_> {
                     Candidate {
                         kind: trial.kind,
                         sensor: trial.sensor,
+                        output: trial.output,
                         label: trial.label_at(&fit.outcome),
                         replaces: trial.replaces,
                         parameters,

@@ -46,6 +46,11 @@ pub struct Evidence {
     /// The share of the reference residual's predictable structure ([`super::evidence::structure`])
     /// that the refit removes: 1 − structure(refit)/structure(reference).
     pub structure_explained: f64,
+    /// The structure (nats, [`super::evidence::structure`]) the reference's residual holds
+    /// beyond the measurement model, of which `structure_explained` is the share removed.
+    pub structure_held: f64,
+    /// The structure (nats) the refit's residual leaves.
+    pub structure_left: f64,
     /// For a sensor effect, the same share on the one output it acts on (1 where the
     /// reference holds less than 10 nats of structure there); below
     /// [`super::MIN_SENSOR_STRUCTURE_EXPLAINED`] the effect is not named
@@ -121,6 +126,9 @@ pub struct Candidate {
     pub kind: EffectKind,
     /// The sensor, for a sensor effect.
     pub sensor: Option<Sensor>,
+    /// The record's output (its column among the outputs) a sensor effect acts on.
+    #[serde(skip)]
+    pub output: Option<usize>,
     /// Catalog name with its target, e.g. `output_offset(theta)`.
     pub label: String,
     /// The effect of the model it takes the place of, for a swap of siblings.

@@ -1,10 +1,46 @@
 //! The answer in words: why this effect, or why none and what remains, and a named effect's
 //! form (a friction's static peak, a saturation's knee).
 
-use super::super::{DampingRival, Diagnosis, EffectParameter, SaturationKnee, StaticPeak, TimeLaw, Verdict};
+use super::super::{
+    Candidate, DampingRival, Diagnosis, EffectParameter, MIN_SENSOR_STRUCTURE_EXPLAINED, SaturationKnee,
+    StaticPeak, TimeLaw, Verdict,
+};
 use crate::quantization;
+use plant::EffectKind;
 
 impl Diagnosis {
+    /// Where the named law of a sensor's zero leaves more than half its output's structure and
+    /// another law of the same zero removed enough of it (module `named`, `zeros_law`): why the
+    /// law named is this one.
+    fn zeros_law_sentence(&self, c: &Candidate) -> Option<String> {
+        let zero = |k: EffectKind| matches!(k, EffectKind::OutputOffset | EffectKind::SensorDrift);
+        let share = c.evidence.sensor_structure_explained?;
+        if !zero(c.kind) || share >= MIN_SENSOR_STRUCTURE_EXPLAINED {
+            return None;
+        }
+        let other = self
+            .candidates
+            .iter()
+            .filter(|o| zero(o.kind) && o.output == c.output && o.verdict == Verdict::Outscored)
+            .filter(|o| {
+                o.evidence.sensor_structure_explained.is_some_and(|s| s >= MIN_SENSOR_STRUCTURE_EXPLAINED)
+            })
+            .max_by(|a, b| {
+                a.evidence.held_out.unwrap_or(0.0).total_cmp(&b.evidence.held_out.unwrap_or(0.0))
+            })?;
+        Some(format!(
+            "it removes {:.0} % of its output's structure, under the {:.0} % a sensor's error is asked to; {} on \
+             the same output removes {:.0} %, so the error is the sensor's zero, and {} predicts the held-out blocks \
+             {:.1} nats better, so its law is named",
+            100.0 * share,
+            100.0 * MIN_SENSOR_STRUCTURE_EXPLAINED,
+            other.label,
+            100.0 * other.evidence.sensor_structure_explained.unwrap_or(0.0),
+            c.label,
+            c.evidence.held_out.unwrap_or(0.0) - other.evidence.held_out.unwrap_or(0.0)
+        ))
+    }
+
     /// Why this effect, or why none and what remains.
     pub(super) fn verdict_sentences(&self) -> Vec<String> {
         match self.named() {
@@ -83,6 +119,7 @@ impl Diagnosis {
                         ),
                     });
                 }
+                out.extend(self.zeros_law_sentence(c));
                 out.extend(self.static_peak.as_ref().map(StaticPeak::sentence));
                 out.extend(self.saturation_knee.as_ref().map(SaturationKnee::sentence));
                 // The rivals the named one was chosen among: not told apart by these data.
