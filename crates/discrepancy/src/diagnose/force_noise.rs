@@ -206,7 +206,7 @@ pub const PREDICTOR_ORDER: usize = 20;
 pub const MAX_PREDICTOR_ORDER: usize = 160;
 
 /// The predictor's order is the least at which its prediction error lies within this share of
-/// the largest order's ([`predictor_of`]).
+/// the largest order's (`predictor_of`).
 pub const PREDICTOR_CONVERGED: f64 = 1e-3;
 
 /// The linear predictor of the noise whose one-sided spectrum is `total` (Welch bins), of the

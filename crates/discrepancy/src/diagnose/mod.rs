@@ -20,7 +20,8 @@
 //! 5. it removes at least a tenth of the structure the reference's residual holds beyond the
 //!    measurement model (what an AR(20) predictor of the residual gains over the noise's own
 //!    AR(1), [`evidence::structure`]): missing physics explains the structure it leaves, a
-//!    stand-in only shaves it;
+//!    stand-in only shaves it — unless what it leaves is less than it gains in sample, where the
+//!    residual holds too little structure to judge it by ([`superficial`]);
 //! 6. a sensor effect removes at least half the structure on the one output it acts on
 //!    ([`MIN_SENSOR_STRUCTURE_EXPLAINED`]; on a record whose recorded force has noise, beyond
 //!    the better of the measurement model and the force's noise read from each residual
@@ -127,7 +128,9 @@
 //!
 //! Of the candidates that pass, the one with the most held-out evidence is named; among those
 //! whose held-out gains lie within the threshold of the best (not told apart), the one whose
-//! strength is resolved by the most standard errors. A candidate that makes a further claim
+//! strength is resolved by the most standard errors. A sensor's offset and its drift are two
+//! laws of one error, its zero: where one is chosen and the other, set aside only by step 6,
+//! predicts the held-out blocks better by the threshold, the other is named (module `named`). A candidate that makes a further claim
 //! than a passing sibling is named only where the data make it: a voltage limit, which says
 //! which quantity the amplifier limits (so the back-EMF acts beyond it), only where its held-out
 //! gain leads the current limit's by the threshold; otherwise the broader
@@ -174,7 +177,7 @@ pub use force_noise::{
 pub use options::{
     DEFAULT_FILE_TOLERANCE, DEFAULT_THRESHOLD, DiagnoseOptions, MIN_MODE_STRUCTURE_EXPLAINED,
     MIN_SENSOR_STRUCTURE_EXPLAINED, MIN_SPRING_STRUCTURE_EXPLAINED, MIN_STRUCTURE_EXPLAINED,
-    min_structure_explained,
+    min_structure_explained, superficial,
 };
 pub use report::DiagnosisReport;
 pub use rivals::SAME_FIT;

@@ -9,8 +9,8 @@ use super::force_noise;
 use super::options::MIN_STRUCTURE;
 use super::run::{self, Fitted, Folds};
 use super::{
-    Candidate, DiagnoseOptions, Evidence, MIN_SENSOR_STRUCTURE_EXPLAINED, Observe, Verdict, failed,
-    min_structure_explained, schedule,
+    Candidate, DiagnoseOptions, Evidence, MIN_SENSOR_STRUCTURE_EXPLAINED, Observe, Verdict, failed, schedule,
+    superficial,
 };
 use crate::WorkflowError;
 use crate::frf::InputNoise;
@@ -229,9 +229,7 @@ impl Scoring<'_> {
                 c.verdict = match c.evidence.held_out {
                     None => Verdict::Failed("a held-out refit failed".into()),
                     Some(h) if h < options.threshold => Verdict::NotPredictive,
-                    _ if c.evidence.structure_explained < min_structure_explained(c.kind) => {
-                        Verdict::Superficial
-                    }
+                    _ if superficial(c.kind, &c.evidence) => Verdict::Superficial,
                     _ if c
                         .evidence
                         .sensor_structure_explained

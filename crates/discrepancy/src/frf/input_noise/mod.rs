@@ -148,7 +148,7 @@ impl RecordedInputs {
     }
 
     /// Per input, the noise's variance σ_i² read from the recorded input's own quiet band, where
-    /// it has one ([`quiet_level`]); the Whittle fit of [`Self::noise`] then holds β_i there.
+    /// it has one (`quiet::quiet_level`); the Whittle fit of [`Self::noise`] then holds β_i there.
     pub fn quiet_levels(&self) -> &[Option<f64>] {
         &self.quiet
     }
