@@ -130,7 +130,8 @@
 //! whose held-out gains lie within the threshold of the best (not told apart), the one whose
 //! strength is resolved by the most standard errors. A sensor's offset and its drift are two
 //! laws of one error, its zero: where one is chosen and the other, set aside only by step 6,
-//! predicts the held-out blocks better by the threshold, the other is named (module `named`). A candidate that makes a further claim
+//! predicts the held-out blocks better by the threshold, the other is named (module `named`).
+//! A candidate that makes a further claim
 //! than a passing sibling is named only where the data make it: a voltage limit, which says
 //! which quantity the amplifier limits (so the back-EMF acts beyond it), only where its held-out
 //! gain leads the current limit's by the threshold; otherwise the broader

@@ -278,6 +278,11 @@ pub(super) fn choose(candidates: &[Candidate], threshold: f64) -> Option<usize> 
     })
 }
 
+/// Whether `kind` is a law in time of a sensor's zero: an offset or a drift ([`zeros_law`]).
+pub(super) fn is_zero_law(kind: EffectKind) -> bool {
+    matches!(kind, EffectKind::OutputOffset | EffectKind::SensorDrift)
+}
+
 /// The law of a sensor's zero the held-out blocks decide. An offset and a drift are two laws in
 /// time of one error, the sensor's zero; where the chosen candidate is one of them, another law
 /// of the same output's zero that predicts the held-out blocks better by at least `threshold`,
@@ -290,7 +295,7 @@ pub(super) fn choose(candidates: &[Candidate], threshold: f64) -> Option<usize> 
 /// 44 %) was named a drift (97 nats, 58 %). Any other candidate, or a law the threshold does
 /// not tell apart, leaves the choice as it is.
 fn zeros_law(candidates: &[Candidate], chosen: usize, threshold: f64) -> usize {
-    let zero = |c: &Candidate| matches!(c.kind, EffectKind::OutputOffset | EffectKind::SensorDrift);
+    let zero = |c: &Candidate| is_zero_law(c.kind);
     let named = &candidates[chosen];
     let Some(lead) = named.evidence.held_out.filter(|_| zero(named) && named.output.is_some()) else {
         return chosen;

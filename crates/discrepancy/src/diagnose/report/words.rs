@@ -6,14 +6,13 @@ use super::super::{
     StaticPeak, TimeLaw, Verdict,
 };
 use crate::quantization;
-use plant::EffectKind;
 
 impl Diagnosis {
     /// Where the named law of a sensor's zero leaves more than half its output's structure and
     /// another law of the same zero removed enough of it (module `named`, `zeros_law`): why the
     /// law named is this one.
     fn zeros_law_sentence(&self, c: &Candidate) -> Option<String> {
-        let zero = |k: EffectKind| matches!(k, EffectKind::OutputOffset | EffectKind::SensorDrift);
+        let zero = super::super::named::is_zero_law;
         let share = c.evidence.sensor_structure_explained?;
         if !zero(c.kind) || share >= MIN_SENSOR_STRUCTURE_EXPLAINED {
             return None;
