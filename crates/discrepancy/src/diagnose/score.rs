@@ -112,7 +112,11 @@ impl Scoring<'_> {
         let beyond = |residual: &Mat<f64>| evidence::structure_per_output(residual, &noise);
         let reference_per_output = beyond(&reference.outcome.first().residual());
         let reference_structure: f64 = reference_per_output.iter().sum();
-        let share = |left: f64, held: f64| if held > MIN_STRUCTURE { 1.0 - left / held } else { 1.0 };
+        // Under MIN_STRUCTURE a residual is noise, the reference's or the refit's: a refit that
+        // leaves no more than that explains all the structure there is.
+        let share = |left: f64, held: f64| {
+            if held > MIN_STRUCTURE && left > MIN_STRUCTURE { 1.0 - left / held } else { 1.0 }
+        };
         // On a forced record with noise on its force, a sensor effect's share on its own output
         // is of the structure beyond the better of that noise model and the one read again from
         // each residual itself, the reference's and the refit's ([`own_structure`]).
