@@ -350,9 +350,7 @@ fn on_a_noisy_force_a_small_offset_is_weighed_against_the_noises_exact_response(
 /// sensor's zero; the held-out blocks decide its law.
 #[test]
 fn on_a_noisy_force_the_held_out_blocks_decide_a_sensors_zero_law() {
-    let case = "study_drift_law_noisy_force";
-    let d = run(case);
-    assert_eq!(label(case, d.clone()), "sensor_drift(q1)");
+    let d = answered("study_drift_law_noisy_force", "sensor_drift(q1)");
     let named = d.named().expect("named");
     let offset = d.candidates.iter().find(|c| c.label == "output_offset(q1)").expect("an offset tried");
     assert_eq!(offset.verdict, Verdict::Outscored);
@@ -367,9 +365,7 @@ fn on_a_noisy_force_the_held_out_blocks_decide_a_sensors_zero_law() {
 /// much: its share (−5 %) is chance, less structure than it gains is left, and it is named.
 #[test]
 fn on_a_noisy_force_a_weak_drift_is_not_judged_by_a_share_of_little_structure() {
-    let case = "study_weak_drift_noisy_force";
-    let d = run(case);
-    assert_eq!(label(case, d.clone()), "sensor_drift(q1)");
+    let d = answered("study_weak_drift_noisy_force", "sensor_drift(q1)");
     let named = d.named().expect("named");
     assert!(named.evidence.structure_left < named.evidence.in_sample, "{:?}", named.evidence);
 }
@@ -387,8 +383,7 @@ fn on_a_noisy_force_a_drift_that_leaves_noise_is_named() {
 /// `case` is answered `expected`, a sensor effect that removes at least
 /// `MIN_SENSOR_STRUCTURE_EXPLAINED` of the structure on its own output.
 fn named_leaving_its_output_unstructured(case: &str, expected: &str) {
-    let d = run(case);
-    assert_eq!(label(case, d.clone()), expected);
+    let d = answered(case, expected);
     let named = d.named().expect("named");
     assert!(
         named
@@ -398,4 +393,11 @@ fn named_leaving_its_output_unstructured(case: &str, expected: &str) {
         "{:?}",
         named.evidence
     );
+}
+
+/// `case`'s diagnosis, asserted to answer `expected`.
+fn answered(case: &str, expected: &str) -> discrepancy::Diagnosis {
+    let d = run(case);
+    assert_eq!(label(case, d.clone()), expected);
+    d
 }

@@ -18,7 +18,7 @@ use faer::Mat;
 use mem::nalgebra::DMatrix;
 use mem::{BoxedError, Grid, Hold, ResponseModel};
 use num_dual::Dual64;
-use structure::StructureModel;
+use structure::{ForceLaw, StructureModel};
 
 /// A structure model with force effects and `free` parameters, as a [`ResponseModel`].
 #[derive(Clone, Debug)]
@@ -230,6 +230,8 @@ impl StructureExponential {
             d.iter_mut().for_each(|di| di.h = None);
         }
         let laws = self.model.force_laws();
+        let step =
+            self.max_step.min(friction_step(&self.model, &laws, &all)).max(self.max_step / MAX_SUBSTEP_SHARE);
         let mut states: Vec<usize> = laws.iter().flat_map(|l| l.states()).collect();
         states.sort_unstable();
         states.dedup();
@@ -245,7 +247,6 @@ impl StructureExponential {
             states,
             scratch: vec![Dual64::from(0.0); n],
         };
-        let step = self.max_step.min(friction_step(&self.model, &all)).max(self.max_step / MAX_SUBSTEP_SHARE);
         integrate(&lin, &d, &mut forces, start, h, step, out)
     }
 }
@@ -256,8 +257,8 @@ const MAX_SUBSTEP_SHARE: f64 = 16.0;
 /// A dry friction's substep as a share of v_s m / F ([`friction_step`]).
 const FRICTION_STEP: f64 = 0.25;
 
-/// The longest substep at which every dry friction of `model` at the parameter values `all` is
-/// integrated accurately: h ≤ [`FRICTION_STEP`] · v_s m_jj / F, F the friction's force at rest
+/// The longest substep at which every dry friction among `laws` (the force laws of `model`) at
+/// the parameter values `all` is integrated accurately: h ≤ [`FRICTION_STEP`] · v_s m_jj / F, F the friction's force at rest
 /// (F_c plus its static peak), v_s its smoothing velocity and m_jj the mass at its coordinate;
 /// ∞ without one.
 ///
@@ -274,28 +275,17 @@ const FRICTION_STEP: f64 = 0.25;
 /// solution; at a quarter of it, 1.5 %, the other floors within 1.4·10⁻⁴ (test
 /// `a_strong_sharp_friction_is_integrated_at_a_substep_it_holds`). The diagnosis's estimate of
 /// that friction was the same at both (4,462 N), its time 10 s against 22 s.
-fn friction_step(model: &StructureModel, all: &[f64]) -> f64 {
-    if !model.effects().iter().any(|e| matches!(e, structure::Effect::DryFriction { .. })) {
+fn friction_step(model: &StructureModel, laws: &[ForceLaw], all: &[f64]) -> f64 {
+    let frictions: Vec<(usize, f64, f64)> = laws.iter().filter_map(|l| l.friction_at_rest(all)).collect();
+    if frictions.is_empty() {
         return f64::INFINITY;
     }
-    let names = model.parameter_names();
-    let value = |name: String| names.iter().position(|n| *n == name).and_then(|i| all.get(i).copied());
-    let coordinates = model.coordinates();
     let Ok(Some(matrices)) = model.second_order::<f64>(all) else { return f64::INFINITY };
-    model
-        .effects()
-        .iter()
-        .filter_map(|e| match e {
-            structure::Effect::DryFriction { coordinate, force, smoothing_velocity, static_peak, .. } => {
-                let j = coordinates.iter().position(|c| c == coordinate)?;
-                let sliding = value(format!("friction_{coordinate}")).unwrap_or(*force).abs();
-                let peak = static_peak.map(|p| value(format!("static_peak_{coordinate}")).unwrap_or(p).abs());
-                let at_rest = sliding + peak.unwrap_or(0.0);
-                let m = matrices.m[(j, j)];
-                (at_rest > 0.0 && m > 0.0 && *smoothing_velocity > 0.0)
-                    .then(|| FRICTION_STEP * smoothing_velocity * m / at_rest)
-            }
-            _ => None,
+    frictions
+        .into_iter()
+        .filter_map(|(j, at_rest, vs)| {
+            let m = matrices.m[(j, j)];
+            (at_rest > 0.0 && m > 0.0 && vs > 0.0).then(|| FRICTION_STEP * vs * m / at_rest)
         })
         .fold(f64::INFINITY, f64::min)
 }

@@ -7,6 +7,19 @@ use mem::Scalar;
 use mem::nalgebra::{DMatrix, DVector};
 
 impl Effect {
+    /// For a dry friction, its level at rest — the sliding level plus any static peak, with its
+    /// parameters `theta` as [`force`](Self::force) reads them — and its smoothing velocity v_s;
+    /// `None` for another effect. Below v_s it acts as a damper of level/v_s.
+    pub(crate) fn friction_at_rest(&self, theta: &[f64]) -> Option<(f64, f64)> {
+        match self {
+            Effect::DryFriction { smoothing_velocity, static_peak, .. } => {
+                let peak = if static_peak.is_some() { theta.get(1)?.abs() } else { 0.0 };
+                Some((theta.first()?.abs() + peak, *smoothing_velocity))
+            }
+            _ => None,
+        }
+    }
+
     /// The force f_j at time `t` since the release and a state x = [q; q̇] of `n` coordinates,
     /// with this effect's parameters `theta` (in the order of [`parameters`](Self::parameters))
     /// and its coordinate `j`; zero for an effect that is not a force.

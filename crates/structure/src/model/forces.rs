@@ -29,6 +29,14 @@ impl ForceLaw {
         [self.coordinate, self.n + self.coordinate]
     }
 
+    /// For a dry friction at parameters `p` (all of the model's): its coordinate's index, its
+    /// level at rest (sliding level plus any static peak) and its smoothing velocity; `None` for
+    /// another law.
+    pub fn friction_at_rest(&self, p: &[f64]) -> Option<(usize, f64, f64)> {
+        let theta = p.get(self.start..self.start + self.len)?;
+        self.effect.friction_at_rest(theta).map(|(level, vs)| (self.coordinate, level, vs))
+    }
+
     /// Whether the parameter at `slot` of P is one of its own.
     pub fn uses(&self, slot: usize) -> bool {
         (self.start..self.start + self.len).contains(&slot)
