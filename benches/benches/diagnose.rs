@@ -179,6 +179,24 @@ fn bench_forced(c: &mut Criterion) {
             )
         })
     });
+    // The scan of trial appendages reacting through the building (`frf::AppendageScan`), once
+    // per diagnosis of a forced structure: three coordinates, a 1 % grid over the band the force
+    // excites, each trial's exact mass sensitivity whitened by the 80-lag predictors above.
+    let free: Vec<String> = ["k1", "k2", "k3", "alpha", "beta"].map(String::from).to_vec();
+    let names: Vec<&str> = free.iter().map(String::as_str).collect();
+    let reference = models::fit(&model, &data, &models::FitRequest::new(&names)).unwrap();
+    let residual = reference.first().residual();
+    let whitening: Vec<mem::NoisePredictor> = noise.iter().flatten().cloned().collect();
+    let scan = discrepancy::frf::AppendageScan {
+        model: reference.fitted.as_structure().expect("a structure"),
+        free: &free,
+        data: &reference.first().data,
+        residual: &residual,
+        noise: &whitening,
+        margin: 10.0,
+    };
+    assert_eq!(scan.run().first().map(|b| b.coordinate.as_str()), Some("q3"), "the roof's appendage");
+    group.bench_function("frf/appendage_scan_forced_2001", |b| b.iter(|| black_box(&scan).run()));
     let options = DiagnoseOptions::new(&["k1", "k2", "k3", "alpha", "beta"]);
     group.bench_function("diagnose/shear_building_forced_appendage_q3", |b| {
         b.iter(|| diagnose(black_box(&model), &raw, &options).unwrap())

@@ -40,6 +40,10 @@ pub struct Localisation {
     pub residual_modes: Vec<era::EraMode>,
     /// Physical modes ERA finds in the measured data, strongest first.
     pub data_modes: Vec<era::EraMode>,
+    /// On a forced structure's record, the bodies the residual shows hanging on its coordinates
+    /// ([`crate::frf::AppendageScan`]), best first; filled by the diagnosis, empty elsewhere.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub appendages: Vec<crate::frf::AppendageResonance>,
     /// Findings in words.
     pub findings: Vec<String>,
 }
@@ -212,6 +216,7 @@ pub fn localise_under(
         decrement_trend,
         residual_modes,
         data_modes,
+        appendages: Vec::new(),
         findings,
     }
 }

@@ -5,12 +5,12 @@
 //! out not to be earned beside the chosen effect (module `secondary`).
 
 use super::catalog::{self, Trial};
-use super::evidence::{LikelihoodFit, NoiseModel};
+use super::evidence::{LikelihoodFit, NoiseModel, Predictor};
 use super::quantized::quantization_candidates;
 use super::run::{Fitted, Folds};
 use super::{Candidate, DiagnoseOptions, Observe, force_noise, score};
 use crate::WorkflowError;
-use crate::frf::InputNoise;
+use crate::frf::{AppendageScan, InputNoise};
 use crate::localise::{Localisation, localise_under};
 use mem::Measurement;
 use plant::EffectKind;
@@ -66,7 +66,29 @@ impl Assess<'_> {
             data.inputs().map(|_| score::measurement_model(&reference.outcome, &reference.outcome, data));
         let whiten =
             prior.as_ref().map(|n| n.predictors.as_slice()).filter(|p| p.iter().any(Option::is_some));
-        let localisation = localise_under(data, &reference.outcome, whiten);
+        let mut localisation = localise_under(data, &reference.outcome, whiten);
+        // On a forced structure's record, the bodies its residual shows hanging on a coordinate
+        // (the appendages' own seeds).
+        if let (Some(noise), Some(model)) = (&prior, reference.outcome.fitted.as_structure()) {
+            let first = reference.outcome.first();
+            let predictors: Option<Vec<Predictor>> = (0..noise.rho.len())
+                .map(|o| match noise.predictors.get(o) {
+                    Some(Some(p)) => Some(p.clone()),
+                    _ => Predictor::ar1(noise.rho[o]),
+                })
+                .collect();
+            if let Some(predictors) = predictors {
+                localisation.appendages = AppendageScan {
+                    model,
+                    free,
+                    data: &first.data,
+                    residual: &first.residual(),
+                    noise: &predictors,
+                    margin: options.threshold,
+                }
+                .run();
+            }
+        }
         let start = reference.outcome.fitted.clone();
         let wanted = |kind: EffectKind| options.only.is_empty() || options.only.contains(&kind);
         let trials: Vec<Trial> =

@@ -2,7 +2,7 @@
 //! baseline and the shortlist on each fold, with and without the model's own parameters free.
 
 use super::answer::{EffectParameter, last_error};
-use super::catalog::{Located, Strength, Trial};
+use super::catalog::{Located, Pole, Strength, Trial};
 use super::evidence::{LikelihoodFit, block_length, folds};
 use crate::WorkflowError;
 use crate::stats::ljung_box;
@@ -283,8 +283,9 @@ pub fn strength_z(outcome: &FitOutcome, trial: &Trial) -> f64 {
             on_bound: report.on_bound[i].is_some(),
         })
     };
-    let pole = match trial.located.as_ref().map(|l| (estimate(&l.name), estimate(&l.damping))) {
-        Some((Some(frequency), Some(damping))) => pole_z(frequency, damping),
+    let pole = match trial.located.as_ref().map(|l| (l.pole, estimate(&l.name), estimate(&l.damping))) {
+        Some((Pole::Ringing, Some(frequency), Some(damping))) => pole_z(frequency, damping),
+        Some((Pole::Body, Some(frequency), Some(damping))) => body_z(frequency, damping),
         _ => f64::INFINITY,
     };
     // A shape parameter the data must locate: off its bounds, its standard error below half
@@ -385,6 +386,21 @@ pub fn pole_z(frequency: Estimate, damping: Estimate) -> f64 {
     z(damping, 1.0).min(z(frequency, 0.5))
 }
 
+/// How surely a refit located a body hung on the structure ([`Pole::Body`]), in standard errors
+/// (0 where it did not): its frequency's distance from a factor 2 off, as for [`pole_z`]; 0 on a
+/// bound of its range, where its standard error is not determined, or where its damping ratio
+/// ended on the upper bound of its range (a band, not a body). Its damping ratio need not be
+/// resolved from zero.
+pub fn body_z(frequency: Estimate, damping: Estimate) -> f64 {
+    if damping.on_bound && damping.value > 0.1 {
+        return 0.0;
+    }
+    match frequency.std_error {
+        Some(se) if se > 0.0 && !frequency.on_bound => 0.5 * frequency.value.abs() / se,
+        _ => 0.0,
+    }
+}
+
 /// The smallest Ljung–Box p-value (lags 1–20) of the fit's residuals over the outputs.
 pub fn whiteness(outcome: &FitOutcome) -> f64 {
     let residual = outcome.first().residual();
@@ -432,7 +448,7 @@ pub fn held_out(
 
 #[cfg(test)]
 mod tests {
-    use super::{Estimate, pole_z};
+    use super::{Estimate, body_z, pole_z};
 
     fn e(value: f64, std_error: f64) -> Estimate {
         Estimate { value, std_error: Some(std_error), on_bound: false }
@@ -458,5 +474,21 @@ mod tests {
         assert_eq!(pole_z(e(0.3, 0.001), bound), 0.0);
         assert_eq!(pole_z(e(0.3, 0.001), Estimate { std_error: None, ..e(0.2, 0.01) }), 0.0);
         assert_eq!(pole_z(e(0.3, 0.001), e(0.2, 0.0)), 0.0);
+    }
+
+    /// A body is located by its frequency alone: the forced draw 20261360's 50 kg appendage at
+    /// 20.7 Hz, refitted at 20.28 ± 0.36 Hz with ζ 0.025 ± 0.013 (unresolved from zero), is a
+    /// body and not a ringing; a frequency on a bound, or a damping ratio pressed on the top of
+    /// its range (a band), is not.
+    #[test]
+    fn a_body_is_located_by_its_frequency_and_its_damping_may_be_unresolved() {
+        let (f, zeta) = (e(20.28, 0.36), e(0.025, 0.013));
+        assert!(pole_z(f, zeta) < 3.0);
+        let body = body_z(f, zeta);
+        assert!((body - 0.5 * 20.28 / 0.36).abs() < 1e-12, "{body}");
+        assert_eq!(body_z(f, Estimate { on_bound: true, ..e(0.0, 0.01) }), body);
+        assert_eq!(body_z(f, Estimate { on_bound: true, ..e(0.2, 0.01) }), 0.0);
+        assert_eq!(body_z(Estimate { on_bound: true, ..f }, zeta), 0.0);
+        assert_eq!(body_z(Estimate { std_error: None, ..f }, zeta), 0.0);
     }
 }

@@ -26,11 +26,13 @@
 //! Vol. II: Detection Theory*, 1998, ch. 4), whose chance gain is the same at every frequency as
 //! it is for the plain scan in white noise.
 
+mod appendage;
 mod input_noise;
 mod noise_response;
 mod scan;
 mod spectra;
 
+pub use appendage::{APPENDAGE_DAMPING, APPENDAGE_SPACING, AppendageResonance, AppendageScan, RIGID};
 pub use input_noise::{InputNoise, InputNoiseLevel, RecordedInputs, input_noise};
 pub use noise_response::NoiseResponse;
 

@@ -9,8 +9,8 @@ pub(super) mod slewing;
 pub(super) mod structure;
 
 pub use searches::{KneeSearch, StaticPeakSearch, knee, static_peak};
-pub use seeds::Located;
-use seeds::{Clear, LIGHTLY_DAMPED, Seed, drift_time_range, mode_seeds, record_length};
+use seeds::{Clear, LIGHTLY_DAMPED, Seed, drift_time_range, mode_seeds, record_length, seed_at};
+pub use seeds::{Located, Pole};
 
 use crate::localise::Localisation;
 use mem::Measurement;

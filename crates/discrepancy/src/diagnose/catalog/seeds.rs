@@ -26,6 +26,24 @@ pub struct Located {
     pub prefix: String,
     /// The mode's damping-ratio parameter.
     pub damping: String,
+    /// What locates the resonance ([`Pole`]).
+    pub pole: Pole,
+}
+
+/// What must locate a resonance for it to be named ([`crate::diagnose::run::strength_z`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pole {
+    /// A ringing added to the outputs: its frequency and its decay
+    /// ([`crate::diagnose::run::pole_z`]). Nothing else pins it, and an oscillation of unknown
+    /// decay fitted over a few cycles can be any slow disturbance.
+    Ringing,
+    /// A body hung on the structure: its frequency alone
+    /// ([`crate::diagnose::run::body_z`]). It pushes back on its coordinate, and that reaction,
+    /// resolved in its mass (the strength), shows it over the whole band; its damping ratio is
+    /// read only from its own resonance, which may be weak, and a lightly damped body whose
+    /// damping is not resolved from zero is still there (forced draw 20261360: a 50 kg body at
+    /// 20.7 Hz, ζ 1.7 %, fitted at 49.5 ± 5.0 kg, 20.28 ± 0.36 Hz, ζ 0.025 ± 0.013).
+    Body,
 }
 
 impl Located {
@@ -133,6 +151,27 @@ impl Clear {
     }
 }
 
+/// A seed at `f` Hz of damping ratio `damping`, unless it lies within the clearance of a
+/// frequency in `avoid`: its range a factor 2 about it, stopping short of those frequencies (by
+/// their clearance), three cycles in the record and the Nyquist frequency of the grid it is
+/// simulated on (a mode needs three cycles to be told from a trend).
+pub(super) fn seed_at(f: f64, damping: f64, avoid: &[Clear], localisation: &Localisation) -> Option<Seed> {
+    if avoid.iter().any(|c| (f / c.frequency - 1.0).abs() < c.for_damping(damping)) {
+        return None;
+    }
+    let mut limits = (MIN_CYCLES / record_length(localisation), localisation.nyquist_hz);
+    for c in avoid {
+        let (s, margin) = (c.frequency, c.for_damping(damping));
+        if s < f {
+            limits.0 = limits.0.max((1.0 + margin) * s);
+        } else {
+            limits.1 = limits.1.min(s / (1.0 + margin));
+        }
+    }
+    let range = about(f, limits);
+    (range.0 < f && f < range.1).then_some(Seed { frequency: f, damping, range, limits })
+}
+
 /// Where an unmodeled mode may be: physical modes of the baseline's residual and of the data
 /// itself damped less than `max_damping`, at most two, clear of each frequency in `avoid` (by
 /// its [`Clear`]) and 10 % from each other, with the frequency within a factor 2 of the seed and
@@ -157,7 +196,6 @@ pub(super) fn mode_seeds(
     localisation: &Localisation,
     fallback: &[(f64, f64)],
 ) -> Vec<Seed> {
-    let record = record_length(localisation);
     let found: Vec<(f64, f64)> = localisation
         .residual_modes
         .iter()
@@ -168,27 +206,12 @@ pub(super) fn mode_seeds(
     let seeded = |modes: &[(f64, f64)]| {
         let mut seeds: Vec<Seed> = Vec::new();
         for &(f, damping) in modes {
-            let near_servo = avoid.iter().any(|c| (f / c.frequency - 1.0).abs() < c.for_damping(damping));
             // (A NaN damping ratio is no seed either.)
             let damped_enough = damping < max_damping;
-            if !damped_enough || near_servo || seeds.iter().any(|s| (s.frequency / f - 1.0).abs() < 0.1) {
+            if !damped_enough || seeds.iter().any(|s| (s.frequency / f - 1.0).abs() < 0.1) {
                 continue;
             }
-            // A mode needs three cycles in the record to be told from a trend, and must lie
-            // below the Nyquist frequency of the grid it is simulated on.
-            let mut limits = (MIN_CYCLES / record, localisation.nyquist_hz);
-            for c in avoid {
-                let (s, margin) = (c.frequency, c.for_damping(damping));
-                if s < f {
-                    limits.0 = limits.0.max((1.0 + margin) * s);
-                } else {
-                    limits.1 = limits.1.min(s / (1.0 + margin));
-                }
-            }
-            let range = about(f, limits);
-            if range.0 < f && f < range.1 {
-                seeds.push(Seed { frequency: f, damping, range, limits });
-            }
+            seeds.extend(seed_at(f, damping, avoid, localisation));
             if seeds.len() == 2 {
                 break;
             }
@@ -206,8 +229,13 @@ mod tests {
 
     #[test]
     fn a_range_moves_a_factor_two_past_the_bound_reached_and_stops_at_its_limits() {
-        let located =
-            Located { name: "f".into(), limits: (0.3, 10.0), prefix: "m(".into(), damping: "z".into() };
+        let located = Located {
+            name: "f".into(),
+            limits: (0.3, 10.0),
+            prefix: "m(".into(),
+            damping: "z".into(),
+            pole: Pole::Ringing,
+        };
         // Seeded at 1.6 Hz: (0.8, 3.2); the refit ends on the lower bound.
         assert_eq!(located.moved((0.8, 3.2), 0.8, Side::Lower), Some((0.4, 1.6)));
         // Next time the limit cuts the range; once on the limit it cannot move.
@@ -237,6 +265,7 @@ mod tests {
             decrement_trend: 0.0,
             residual_modes: Vec::new(),
             data_modes: modes,
+            appendages: Vec::new(),
             findings: Vec::new(),
         };
         let fallback = [(1.7, 0.01)];
@@ -274,6 +303,7 @@ mod tests {
             decrement_trend: 0.0,
             residual_modes: vec![mode],
             data_modes: Vec::new(),
+            appendages: Vec::new(),
             findings: Vec::new(),
         };
         let (f, zeta) = (13.7, 0.056);

@@ -1,7 +1,7 @@
 //! The slewing rig's candidates: saturations, friction, drag, a cubic spring and a delay in the
 //! loop, sensor effects, and an unmodeled mode coupled to the hub.
 
-use super::{Clear, Demand, LIGHTLY_DAMPED, Located, Seed, Strength, Trial, mode_seeds};
+use super::{Clear, Demand, LIGHTLY_DAMPED, Located, Pole, Seed, Strength, Trial, mode_seeds};
 use crate::localise::Localisation;
 use plant::{Effect, EffectKind, ModeKind, ParamId, SlewingModel};
 
@@ -77,6 +77,7 @@ fn mode_trial(
         limits: seed.limits,
         prefix,
         damping: ParamId::ExtraModeDamping.name(),
+        pole: Pole::Ringing,
     };
     let at = |f: f64| {
         let mut e = effect.clone();

@@ -6,7 +6,7 @@
 //! coordinate, in its free decay or, on a forced record, in its response to the record's inputs;
 //! there the mode is driven by an input, from rest).
 
-use super::{Clear, LIGHTLY_DAMPED, Located, Seed, Strength, Trial, mode_seeds};
+use super::{Clear, LIGHTLY_DAMPED, Located, Pole, Seed, Strength, Trial, mode_seeds, seed_at};
 use crate::localise::Localisation;
 use faer::Mat;
 use mem::Measurement;
@@ -321,7 +321,16 @@ pub(super) fn trials(
         .unwrap_or_default();
     let several = drives.len() > 1;
     let seeds = mode_seeds(&modelled, LIGHTLY_DAMPED, localisation, &[]);
-    out.extend(appendages(model, record, &seeds, &outputs, forced));
+    // The bodies the residual shows at a coordinate, under the same clearances.
+    let bodies: Vec<Body> = localisation
+        .appendages
+        .iter()
+        .filter_map(|a| {
+            let seed = seed_at(a.frequency_hz, a.damping_ratio, &modelled, localisation)?;
+            Some(Body { coordinate: a.coordinate.clone(), seed, mass: a.mass })
+        })
+        .collect();
+    out.extend(appendages(model, record, &seeds, &bodies, &outputs, forced));
     for seed in seeds {
         for drive in &drives {
             let (f, zeta, (low, high)) = (seed.frequency, seed.damping, seed.range);
@@ -338,6 +347,7 @@ pub(super) fn trials(
                 limits: seed.limits,
                 prefix,
                 damping: "mode_damping".into(),
+                pole: Pole::Ringing,
             };
             let at = |f: f64| Effect::UnmodeledMode {
                 frequency_hz: f,
@@ -383,11 +393,22 @@ pub(in crate::diagnose) fn has_effect(model: &StructureModel, effect: &Effect) -
 /// The share of a coordinate's mass an appendage starts with.
 const APPENDAGE_START_MASS: f64 = 0.02;
 
+/// A body the residual shows hanging on a coordinate ([`crate::frf::AppendageScan`]): its seed
+/// and its first-order mass.
+struct Body {
+    coordinate: String,
+    seed: Seed,
+    mass: f64,
+}
+
 /// A mode the model lacks as a mass on a spring and damper at a coordinate
-/// ([`Effect::Appendage`]), at every coordinate for every mode seed: where the missing mode is
+/// ([`Effect::Appendage`]), at every coordinate for every mode seed, and first at the
+/// coordinate's own body where the appendage scan found one (`bodies`; a mode seed within 10 %
+/// of it is not tried again there): where the missing mode is
 /// a body hanging on the structure, it pushes back on it, and a ringing added to the outputs
 /// (the free [`Effect::UnmodeledMode`]) cannot follow what its release or its reaction does to
-/// the structure's own modes. Its mass starts at [`APPENDAGE_START_MASS`] of the coordinate's
+/// the structure's own modes. Its mass starts at the body's first-order mass, else at
+/// [`APPENDAGE_START_MASS`] of the coordinate's
 /// (bounds 10⁻⁴–1 of it); in free decay it is released with its spring's force F_r
 /// (`appendage_release_<c>`, bounds ± the coordinate's stiffness force at its peak
 /// displacement, k_jj q̂, from 0: relaxed), on a forced record it starts at rest with the
@@ -396,6 +417,7 @@ fn appendages(
     model: &StructureModel,
     record: &Measurement,
     seeds: &[Seed],
+    bodies: &[Body],
     outputs: &[String],
     forced: bool,
 ) -> Vec<Trial> {
@@ -404,17 +426,30 @@ fn appendages(
     for Scales { coordinate: c, q, k, .. } in scales(model, Some(record)) {
         let Some(j) = model.coordinates().iter().position(|n| *n == c) else { continue };
         let m = so.m[(j, j)];
-        for seed in seeds {
+        let own: Vec<(Seed, f64)> = bodies
+            .iter()
+            .filter(|b| b.coordinate == c)
+            .map(|b| (b.seed, b.mass.clamp(1e-4 * m, m)))
+            .collect();
+        let near_own = |s: &Seed| own.iter().any(|(o, _)| (o.frequency / s.frequency - 1.0).abs() < 0.1);
+        let starts: Vec<(Seed, f64)> = own
+            .iter()
+            .copied()
+            .chain(seeds.iter().filter(|s| !near_own(s)).map(|s| (*s, APPENDAGE_START_MASS * m)))
+            .collect();
+        for (seed, mass) in &starts {
+            let (seed, mass) = (seed, *mass);
             let (zeta, (low, high)) = (seed.damping, seed.range);
             let located = Located {
                 name: format!("appendage_frequency_{c}"),
                 limits: seed.limits,
                 prefix: format!("unmodeled_mode({c}, "),
                 damping: format!("appendage_damping_{c}"),
+                pole: Pole::Body,
             };
             let at = |f: f64| Effect::Appendage {
                 coordinate: c.clone(),
-                mass: APPENDAGE_START_MASS * m,
+                mass,
                 frequency_hz: f,
                 damping_ratio: zeta.clamp(0.005, 0.15),
                 release_force: (!forced).then_some(0.0),
