@@ -5,7 +5,7 @@
 //! out not to be earned beside the chosen effect (module `secondary`).
 
 use super::catalog::{self, Trial};
-use super::evidence::{LikelihoodFit, NoiseModel, Predictor};
+use super::evidence::{LikelihoodFit, NoiseModel};
 use super::quantized::quantization_candidates;
 use super::run::{Fitted, Folds};
 use super::{Candidate, DiagnoseOptions, Observe, force_noise, score};
@@ -71,13 +71,7 @@ impl Assess<'_> {
         // (the appendages' own seeds).
         if let (Some(noise), Some(model)) = (&prior, reference.outcome.fitted.as_structure()) {
             let first = reference.outcome.first();
-            let predictors: Option<Vec<Predictor>> = (0..noise.rho.len())
-                .map(|o| match noise.predictors.get(o) {
-                    Some(Some(p)) => Some(p.clone()),
-                    _ => Predictor::ar1(noise.rho[o]),
-                })
-                .collect();
-            if let Some(predictors) = predictors {
+            if let Some(predictors) = noise.whitening(noise.rho.len()) {
                 localisation.appendages = AppendageScan {
                     model,
                     free,

@@ -183,14 +183,20 @@ impl NoiseModel {
         if !self.predictors.iter().any(Option::is_some) {
             return None;
         }
-        let predictors = (0..residual.ncols())
-            .map(|o| match self.predictors.get(o) {
-                Some(Some(p)) => Some(p.clone()),
-                _ => Predictor::ar1(self.rho[o]),
-            })
-            .collect::<Option<Vec<Predictor>>>()?;
+        let predictors = self.whitening(residual.ncols())?;
         let weights = self.weights_by(residual, |o| self.innovations(residual, o, None));
         Some(LikelihoodFit { rho: self.rho.clone(), weights, predictors: Some(predictors) })
+    }
+
+    /// Per output of `outputs`, the predictor its noise is whitened by: its own where it has one,
+    /// AR(1) of ρ_o where it has none; `None` where a ρ_o is not a stationary AR(1).
+    pub fn whitening(&self, outputs: usize) -> Option<Vec<Predictor>> {
+        (0..outputs)
+            .map(|o| match self.predictors.get(o) {
+                Some(Some(p)) => Some(p.clone()),
+                _ => Predictor::ar1(*self.rho.get(o)?),
+            })
+            .collect()
     }
 
     /// 1/s_o per output, s_o² = U_o/n from `innovations(o)` = (U_o, n), floored as

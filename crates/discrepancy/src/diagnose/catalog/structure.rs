@@ -402,14 +402,12 @@ struct Body {
 }
 
 /// A mode the model lacks as a mass on a spring and damper at a coordinate
-/// ([`Effect::Appendage`]), at every coordinate for every mode seed, and first at the
-/// coordinate's own body where the appendage scan found one (`bodies`; a mode seed within 10 %
-/// of it is not tried again there): where the missing mode is
-/// a body hanging on the structure, it pushes back on it, and a ringing added to the outputs
-/// (the free [`Effect::UnmodeledMode`]) cannot follow what its release or its reaction does to
-/// the structure's own modes. Its mass starts at the body's first-order mass, else at
-/// [`APPENDAGE_START_MASS`] of the coordinate's
-/// (bounds 10⁻⁴–1 of it); in free decay it is released with its spring's force F_r
+/// ([`Effect::Appendage`]): first at the coordinate's own body where the appendage scan found
+/// one (`bodies`), then at every mode seed not within 10 % of it. Where the missing mode is a
+/// body hanging on the structure, it pushes back on it, and a ringing added to the outputs (the
+/// free [`Effect::UnmodeledMode`]) cannot follow what its release or its reaction does to the
+/// structure's own modes. Its mass starts at the body's first-order mass (within its bounds),
+/// else at [`APPENDAGE_START_MASS`] of the coordinate's (bounds 10⁻⁴–1 of it); in free decay it is released with its spring's force F_r
 /// (`appendage_release_<c>`, bounds ± the coordinate's stiffness force at its peak
 /// displacement, k_jj q̂, from 0: relaxed), on a forced record it starts at rest with the
 /// structure. Its strength is the larger of the mass's and the release's resolution from zero.
@@ -437,8 +435,7 @@ fn appendages(
             .copied()
             .chain(seeds.iter().filter(|s| !near_own(s)).map(|s| (*s, APPENDAGE_START_MASS * m)))
             .collect();
-        for (seed, mass) in &starts {
-            let (seed, mass) = (seed, *mass);
+        for &(ref seed, mass) in &starts {
             let (zeta, (low, high)) = (seed.damping, seed.range);
             let located = Located {
                 name: format!("appendage_frequency_{c}"),
