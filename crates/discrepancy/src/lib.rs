@@ -7,7 +7,10 @@
 //!    it, whether it is white (Ljung–Box), whether damping depends on amplitude, whether it holds
 //!    a mode the model lacks (ERA on the residual, which seeds the unmodeled-mode candidate; on
 //!    a record forced by measured inputs, the frequencies where a mode driven by them would
-//!    explain most of the residual, [`frf`]);
+//!    explain most of the residual, [`frf`]; on a forced structure, the bodies hung on a
+//!    coordinate whose reaction — the exact sensitivity of the outputs to a vanishing appendage's
+//!    mass, mem's Eq. 9 — explains more of the whitened residual than a rigid mass there,
+//!    [`frf::AppendageScan`]);
 //! 3. refits with each **candidate effect** of the catalog ([`diagnose::catalog`]; starting
 //!    values from the model and the data), in parallel;
 //! 4. **scores** every candidate by the same likelihood of the same data — Gaussian AR(1) noise

@@ -25,6 +25,13 @@
 //! generalized matched filter (prewhitening; Kay, *Fundamentals of Statistical Signal Processing,
 //! Vol. II: Detection Theory*, 1998, ch. 4), whose chance gain is the same at every frequency as
 //! it is for the plain scan in white noise.
+//!
+//! A mode that belongs to a body hung on a structure also pushes back on its coordinate, as a
+//! mass that grows towards its frequency, over the whole band; where its own ringing is too weak
+//! for the scan above, that reaction is read by a scan of trial appendages at each coordinate
+//! (`appendage.rs`, [`AppendageScan`]): the exact first-order change of the outputs per unit of a
+//! vanishing appendage's mass, whitened alike, the free parameters' span projected off, set
+//! against the same mass held rigid.
 
 mod appendage;
 mod input_noise;
