@@ -265,8 +265,8 @@ pub(super) fn choose(candidates: &[Candidate], threshold: f64) -> Option<usize> 
         // residual; the strength's standard error is a sandwich over each refit's own residual
         // variance and correlation (White 1982), so a candidate that gains by bending into
         // structure it leaves has a wide one. Strengths within [`STRENGTH_TIE`] of the largest
-        // are not told apart either, and among them the better ΔBIC — the same fit for fewer
-        // parameters — decides ([`most_resolved`]).
+        // are not told apart either, and among them the fewest parameters decide
+        // ([`most_resolved`]).
         most_resolved(candidates, &not_told_apart(candidates, threshold))
             .map(|i| zeros_law(candidates, unless_told_apart(candidates, i, threshold), threshold))
     })
@@ -278,19 +278,24 @@ pub const STRENGTH_TIE: f64 = 1.0;
 
 /// Among `tied` (held-out gains the data do not tell apart), the candidate whose strength is
 /// resolved from "no effect" by the most standard errors; where others lie within
-/// [`STRENGTH_TIE`] of it, the one of those with the best ΔBIC, which charges each parameter
-/// (larger z first where ΔBIC ties). On the forced draw 20261362 a 3 % scale on q1
+/// [`STRENGTH_TIE`] of it, the one of those with the fewest parameters (then the largest z, then
+/// the better ΔBIC): the same fit for fewer parameters. On the forced draw 20261362 a 3 % scale on q1
 /// (`A_scale_strong_s1`) predicted the held-out blocks within 4.3 nats of a 12.8 kg body at
 /// 7.35 Hz on floor 3, their strengths 18.2 and 18.4 σ: the body, three parameters for the
-/// scale's one, was named; ΔBIC −262.8 against −256.5 names the scale.
+/// scale's one, was named. Between accounts of as many parameters (one effect at two floors)
+/// parsimony says nothing, and the larger z decides as before: ranking those by ΔBIC named a
+/// cubic spring at the roof for a storey that lost stiffness (20261356 `C_loss_step_strong_s0`,
+/// z 60.6 against floor 2's 61.5, ΔBIC −2,468.2 against −2,456.5), where the spring the larger
+/// z names is then matched by a stiffness changing in time and nothing is named.
 pub(super) fn most_resolved(candidates: &[Candidate], tied: &[usize]) -> Option<usize> {
     let z = |i: usize| candidates[i].evidence.strength_z;
+    let size = |i: usize| candidates[i].parameters.len();
     let bic = |i: usize| candidates[i].evidence.delta_bic;
     let best = tied.iter().map(|&i| z(i)).fold(f64::NEG_INFINITY, f64::max);
     tied.iter()
         .copied()
         .filter(|&i| best - z(i) < STRENGTH_TIE)
-        .min_by(|&a, &b| bic(a).total_cmp(&bic(b)).then(z(b).total_cmp(&z(a))))
+        .min_by(|&a, &b| size(a).cmp(&size(b)).then(z(b).total_cmp(&z(a))).then(bic(a).total_cmp(&bic(b))))
 }
 
 /// Whether `kind` is a law in time of a sensor's zero: an offset or a drift ([`zeros_law`]).
@@ -410,18 +415,31 @@ mod tests {
         assert_eq!(not_told_apart(&all, 10.0), vec![0, 1]);
     }
 
-    /// Strengths within a standard error of each other are not told apart either, and the better
-    /// ΔBIC decides (the forced draw 20261362's 3 % scale against a body at 7.35 Hz: held out
-    /// 143.7 and 139.4 nats, z 18.2 and 18.4, ΔBIC −262.8 and −256.5); a strength more than one
-    /// standard error ahead still decides alone.
+    /// Strengths within a standard error of each other are not told apart either, and the fewer
+    /// parameters decide (the forced draw 20261362's 3 % scale against a body at 7.35 Hz: held
+    /// out 143.7 and 139.4 nats, z 18.2 and 18.4); a strength more than one standard error
+    /// ahead still decides alone, and so does the larger z between as many parameters.
     #[test]
-    fn among_strengths_within_a_standard_error_the_better_bic_is_named() {
-        let scale = passing(EffectKind::SensorScale, 143.7, -262.8, 18.2);
-        let body = passing(EffectKind::UnmodeledMode, 139.4, -256.5, 18.4);
+    fn among_strengths_within_a_standard_error_the_fewer_parameters_are_named() {
+        let with = |kind: EffectKind, held_out: f64, delta_bic: f64, z: f64, n: usize| {
+            let mut c = passing(kind, held_out, delta_bic, z);
+            c.parameters = (0..n)
+                .map(|i| EffectParameter { name: format!("p{i}"), value: 1.0, std_error: Some(0.1) })
+                .collect();
+            c
+        };
+        let scale = with(EffectKind::SensorScale, 143.7, -262.8, 18.2, 1);
+        let body = with(EffectKind::UnmodeledMode, 139.4, -256.5, 18.4, 3);
         assert_eq!(choose(&[body.clone(), scale.clone()], 10.0), Some(1));
         assert_eq!(choose(&[scale.clone(), body.clone()], 10.0), Some(0));
-        let surer = passing(EffectKind::UnmodeledMode, 139.4, -256.5, 19.3);
+        let surer = with(EffectKind::UnmodeledMode, 139.4, -256.5, 19.3, 3);
         assert_eq!(choose(&[surer, scale], 10.0), Some(0));
+        // 20261356: two floors' cubic springs, one parameter each, held out 1,570.9 and 1,562.1
+        // nats, z 60.6 and 61.5: the larger z, not the better ΔBIC (−2,468.2 and −2,456.5).
+        let roof = with(EffectKind::CubicStiffness, 1570.9, -2468.2, 60.6, 1);
+        let second = with(EffectKind::CubicStiffness, 1562.1, -2456.5, 61.5, 1);
+        assert_eq!(choose(&[roof.clone(), second.clone()], 10.0), Some(1));
+        assert_eq!(choose(&[second, roof], 10.0), Some(0));
     }
 
     /// The law of a sensor's zero is the held-out blocks' to decide, once a law of it has shown

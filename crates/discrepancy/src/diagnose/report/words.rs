@@ -144,9 +144,11 @@ impl Diagnosis {
                                 choice.other
                             ));
                         } else if let Some(y) = r.evidence.held_out {
-                            // Strengths within a standard error of each other: the ΔBIC decided.
-                            let by_bic = (r.evidence.strength_z - c.evidence.strength_z).abs()
-                                < super::super::named::STRENGTH_TIE;
+                            // Strengths within a standard error of each other: the fewer
+                            // parameters decided, where the two differ in number.
+                            let by_size = (r.evidence.strength_z - c.evidence.strength_z).abs()
+                                < super::super::named::STRENGTH_TIE
+                                && r.parameters.len() != c.parameters.len();
                             out.push(format!(
                                 "{} predicts within {:.1} nats of it (ΔBIC {:.1} against {:.1}, strength {:.1} σ \
                                  against {:.1}): these data barely tell the two apart, and {}",
@@ -156,9 +158,9 @@ impl Diagnosis {
                                 c.evidence.delta_bic,
                                 r.evidence.strength_z,
                                 c.evidence.strength_z,
-                                if by_bic {
-                                    "with strengths within a standard error of each other the better ΔBIC (the \
-                                     same fit for fewer parameters) decided"
+                                if by_size {
+                                    "with strengths within a standard error of each other the account with fewer \
+                                     parameters decided"
                                 } else {
                                     "the strength resolved by more standard errors decided"
                                 }
