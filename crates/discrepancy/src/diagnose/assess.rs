@@ -67,9 +67,11 @@ impl Assess<'_> {
         let whiten =
             prior.as_ref().map(|n| n.predictors.as_slice()).filter(|p| p.iter().any(Option::is_some));
         let mut localisation = localise_under(data, &reference.outcome, whiten);
+        let wanted = |kind: EffectKind| options.only.is_empty() || options.only.contains(&kind);
         // On a forced structure's record, the bodies its residual shows hanging on a coordinate
-        // (the appendages' own seeds).
-        if let (Some(noise), Some(model)) = (&prior, reference.outcome.fitted.as_structure()) {
+        // (the appendages' own seeds), where a mode is asked for.
+        let bodies = prior.as_ref().filter(|_| wanted(EffectKind::UnmodeledMode));
+        if let (Some(noise), Some(model)) = (bodies, reference.outcome.fitted.as_structure()) {
             let first = reference.outcome.first();
             if let Some(predictors) = noise.whitening(noise.rho.len()) {
                 localisation.appendages = AppendageScan {
@@ -84,7 +86,6 @@ impl Assess<'_> {
             }
         }
         let start = reference.outcome.fitted.clone();
-        let wanted = |kind: EffectKind| options.only.is_empty() || options.only.contains(&kind);
         let trials: Vec<Trial> =
             catalog::trials(&start, data, &localisation).into_iter().filter(|t| wanted(t.kind)).collect();
         // Every candidate is refitted on half the record: it needs 10 readings a parameter there.
