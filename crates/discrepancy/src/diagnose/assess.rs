@@ -7,16 +7,20 @@
 use super::catalog::{self, Trial};
 use super::evidence::{LikelihoodFit, NoiseModel};
 use super::quantized::quantization_candidates;
-use super::run::{Fitted, Folds};
+use super::run::{Fitted, Folds, RanOff, Restart};
 use super::{Candidate, DiagnoseOptions, Observe, force_noise, score};
 use crate::WorkflowError;
 use crate::frf::{AppendageScan, InputNoise};
 use crate::localise::{Localisation, localise_under};
 use mem::Measurement;
+use models::Model;
 use plant::EffectKind;
 
 /// One reference's assessment: the problem it was made from, its parts named.
 pub(super) struct Assess<'a> {
+    /// The model file as read: a second start for every trial where the reference ran far from
+    /// its values ([`Restart`]).
+    pub file: &'a Model,
     /// The reference every candidate is scored against.
     pub reference: &'a Fitted,
     /// Its free parameters, refitted in every candidate too.
@@ -47,6 +51,9 @@ pub(super) struct Assessment {
     pub reference_likelihoods: Vec<f64>,
     /// On a forced record, the noise on its recorded inputs.
     pub force_noise: Option<InputNoise>,
+    /// The reference's free parameters that ran far from the model file's values, from which
+    /// every trial was then refitted too.
+    pub ran_off: Vec<RanOff>,
     /// The fit by the likelihood the candidates were scored under, where the noise is coloured
     /// beyond AR(1) (the form tests' refits).
     pub coloured: Option<LikelihoodFit>,
@@ -58,7 +65,7 @@ impl Assess<'_> {
     /// # Errors
     /// A record too short for the largest refit, and failures of the lattice's reading.
     pub(super) fn run(&self) -> Result<Assessment, WorkflowError> {
-        let Assess { reference, free, raw, data, folds, options, observer } = *self;
+        let Assess { file, reference, free, raw, data, folds, options, observer } = *self;
         // On a forced record, the residual's resonances are read under the noise the reference's
         // residual shows: where the force's noise colours it, its response at the modelled
         // modes is noise, not a mode the model lacks (the seeds of the unmodeled modes).
@@ -94,8 +101,28 @@ impl Assess<'_> {
         if residuals < 20 * parameters {
             return Err(WorkflowError::TooShort { residuals, parameters, needed: 20 * parameters });
         }
-        let score::Scores { mut candidates, noise, reference_likelihoods, coloured } =
-            score::Scoring { start: &start, reference, free, data, folds, options, observer }.score(&trials);
+        let ran_off = Restart::ran_off(file, &reference.outcome);
+        let restart = (!ran_off.is_empty())
+            .then(|| Restart::model(file, &reference.outcome, free))
+            .flatten()
+            .map(|model| {
+                let trials = catalog::trials(&model, data, &localisation)
+                    .into_iter()
+                    .filter(|t| wanted(t.kind))
+                    .collect();
+                Restart { model, trials }
+            });
+        let score::Scores { mut candidates, noise, reference_likelihoods, coloured } = score::Scoring {
+            start: &start,
+            restart: restart.as_ref(),
+            reference,
+            free,
+            data,
+            folds,
+            options,
+            observer,
+        }
+        .score(&trials);
         // On a forced record, an effect acting through the dynamics must remove more than the
         // recorded force's noise could let it take up.
         let force_noise = force_noise::screen(&mut candidates, &trials, &reference.outcome, data);
@@ -110,6 +137,7 @@ impl Assess<'_> {
             noise,
             reference_likelihoods,
             force_noise,
+            ran_off,
             coloured,
         })
     }

@@ -2,6 +2,11 @@
 //! score every candidate by the same likelihood, in sample and on held-out blocks → name the
 //! effect that earns its name, or say `none` and describe what remains.
 //!
+//! Every candidate is refitted from where the reference ends, its effect sized by that model;
+//! where a free parameter of the reference ran more than a decade from the model file's value
+//! (a linear fit driven off by a strong nonlinearity), from the file's values too, and the
+//! better refit is kept (`run::Restart`; the parameters are reported as [`RanOff`]).
+//!
 //! An effect is named only when all of these hold (each is a [`Verdict`] when it fails):
 //! 1. its refit improves the in-sample likelihood beyond the BIC penalty of its parameters
 //!    (ΔBIC < −10, "very strong" on the Kass–Raftery scale);
@@ -182,6 +187,7 @@ pub use options::{
 };
 pub use report::DiagnosisReport;
 pub use rivals::SAME_FIT;
+pub use run::RanOff;
 
 pub use residual::{Band, ResidualStructure};
 
@@ -251,6 +257,7 @@ pub fn diagnose_observed(
     let primary_mismatch: Vec<String> = mismatch.iter().filter(|n| !joined.contains(n)).cloned().collect();
     let assess = |r: &secondary::Reference| {
         assess::Assess {
+            file: model,
             reference: &r.0,
             free: &r.1,
             raw: &raw,
@@ -292,6 +299,7 @@ pub fn diagnose_observed(
         noise,
         reference_likelihoods,
         force_noise,
+        ran_off,
         coloured,
     } = assessed;
     let likelihoods = |outcome: &FitOutcome| noise.log_likelihoods(&outcome.first().residual(), None);
@@ -339,6 +347,7 @@ pub fn diagnose_observed(
         scale_equivalents: found.scale_equivalents,
         scale_choice: found.scale_choice,
         force_noise,
+        ran_off,
         rivals: found.rivals,
         spring: found.spring,
         time_law: found.time_law,

@@ -25,6 +25,9 @@ type Scored = Result<Vec<f64>, WorkflowError>;
 pub(super) struct Scoring<'a> {
     /// The reference's fitted model, to which each trial adds its effect.
     pub start: &'a Model,
+    /// Where the reference ran far from the model file: the file's values, from which each
+    /// trial is refitted too (the better refit is kept).
+    pub restart: Option<&'a run::Restart>,
     /// The reference fit every candidate is compared with.
     pub reference: &'a Fitted,
     /// The reference's free parameters, refitted in every candidate too.
@@ -55,8 +58,11 @@ pub(super) struct Scores {
 impl Scoring<'_> {
     /// Refits and scores every trial.
     pub(super) fn score(&self, trials: &[Trial]) -> Scores {
-        let Scoring { start, reference, free: reference_free, data, folds, options, observer } = *self;
+        let Scoring { start, restart, reference, free: reference_free, data, folds, options, observer } =
+            *self;
         let total = trials.len();
+        let again: Vec<Option<usize>> =
+            restart.map_or_else(|| vec![None; trials.len()], |r| r.matching(trials));
         let done = std::sync::atomic::AtomicUsize::new(0);
         // The costliest refits start first, so that the workers finish together.
         // One refit of each trial's model; the full refit makes one per start, a held-out refit one.
@@ -64,10 +70,15 @@ impl Scoring<'_> {
         let indices: Vec<usize> = (0..trials.len()).collect();
         let fits: Vec<Result<Fitted, WorkflowError>> = schedule::largest_first(
             &indices,
-            |&i| refit[i] * (1 + trials[i].alternatives.len()),
+            |&i| refit[i] * (1 + trials[i].alternatives.len()) * (1 + usize::from(again[i].is_some())),
             |&i| {
                 let trial = &trials[i];
-                let result = run::fit_trial(start, trial, reference_free, data, None, 60);
+                let mut result = run::fit_trial(start, trial, reference_free, data, None, 60);
+                if let (Some(r), Some(j)) = (restart, again[i]) {
+                    let other = run::fit_trial(&r.model, &r.trials[j], reference_free, data, None, 60);
+                    result = run::better(result.map(|f| f.outcome), other.map(|f| f.outcome))
+                        .map(|outcome| Fitted { outcome });
+                }
                 observer.progress(
                     "candidates",
                     done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,

@@ -266,6 +266,10 @@ pub struct Diagnosis {
     /// On a forced record, the noise estimated on its recorded inputs and what it accounts for
     /// in the best-fitting residual ([`crate::frf::input_noise`]).
     pub force_noise: Option<crate::frf::InputNoise>,
+    /// The reference's free parameters that ended more than a decade from the model file's
+    /// values (off their bounds): every candidate was then refitted from the file's values too,
+    /// and the better refit kept ([`super::RanOff`]).
+    pub ran_off: Vec<super::RanOff>,
     /// For a named effect, or the one they unseated: the model's parameters that, refitted
     /// alone instead, explain the data as well ([`Rival`]).
     pub rivals: Vec<Rival>,

@@ -46,6 +46,10 @@ pub struct DiagnosisReport<'a> {
     /// On a forced record: the noise estimated on its recorded inputs, and the share of the
     /// best-fitting residual it accounts for ([`crate::frf::InputNoise`]); absent otherwise.
     pub force_noise: Option<&'a crate::frf::InputNoise>,
+    /// The reference's free parameters that ran more than a decade from the model file's values,
+    /// from which every candidate was then refitted too ([`super::RanOff`]); absent if none.
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub ran_off: &'a [super::RanOff],
     /// For a named effect: the model's parameters that, refitted alone instead, explain the
     /// data as well — mismatches these data do not rule out; for an effect they unseated
     /// ([`super::Verdict::MatchedByMismatch`]), those that explain them as well, to within a nat (empty
@@ -88,9 +92,36 @@ impl Diagnosis {
     pub fn answer(&self) -> Vec<String> {
         let mut out = self.verdict_sentences();
         out.extend(self.secondary.as_ref().filter(|s| !s.kept).map(super::SecondaryMismatch::sentence));
+        out.extend(self.ran_off_sentence());
         out.extend(self.force_noise_sentence());
         out.extend(self.glitch_sentence());
         out
+    }
+
+    /// The reference's parameters that ran far from the model file, in words (`None` where
+    /// none did).
+    fn ran_off_sentence(&self) -> Option<String> {
+        if self.ran_off.is_empty() {
+            return None;
+        }
+        let moved: Vec<String> = self
+            .ran_off
+            .iter()
+            .map(|r| {
+                format!(
+                    "`{}` {:.6e} against the file's {:.6e} ({:.3}×)",
+                    r.name,
+                    r.fitted,
+                    r.file,
+                    r.fitted / r.file
+                )
+            })
+            .collect();
+        Some(format!(
+            "the reference fit ran far from the model file ({}): every candidate was refitted from the file's values \
+             too, and the better of its two refits kept",
+            moved.join(", ")
+        ))
     }
 
     /// The noise estimated on a forced record's recorded inputs, in words (`None` for a free
@@ -173,6 +204,7 @@ impl Diagnosis {
             equivalent_parameters: &self.scale_equivalents,
             scale_choice: self.scale_choice.as_ref(),
             force_noise: self.force_noise.as_ref(),
+            ran_off: &self.ran_off,
             rival_mismatches: &self.rivals,
             asymmetric_spring: self.spring.as_ref().and_then(|f| f.asymmetric.as_ref()),
             changing_spring: self.spring.as_ref().map(|f| &f.changing),
