@@ -293,6 +293,18 @@ pub(super) fn better(
     }
 }
 
+/// Refits `model`, which carries the trial's effect already (a candidate's own fit), with `free`
+/// and the trial's own parameters free, on every sample.
+pub(super) fn refit_with_effect(
+    model: &Model,
+    trial: &Trial,
+    free: &[String],
+    data: &Measurement,
+    iterations: usize,
+) -> Result<FitOutcome, WorkflowError> {
+    refit(model, data, &names(free, trial.freed.iter().cloned()), None, iterations)
+}
+
 /// Refits `start` with the trial's effect on every sample (or on the weighted ones), from each
 /// of its starting values, and keeps the refit with the smallest error.
 pub fn fit_trial(
