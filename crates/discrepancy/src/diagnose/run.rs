@@ -238,13 +238,22 @@ impl Restart {
     /// times from their (nonzero) file value or on the other side of zero.
     pub(super) fn ran_off(file: &Model, reference: &FitOutcome) -> Vec<RanOff> {
         let report = &reference.report;
-        report
-            .names
+        Self::ran_off_of(file, &report.names, &report.parameters, &report.on_bound)
+    }
+
+    /// [`Self::ran_off`] of fitted `values` (with their `on_bound` sides) of the parameters `names`.
+    fn ran_off_of(
+        file: &Model,
+        names: &[String],
+        values: &[f64],
+        on_bound: &[Option<mem::Side>],
+    ) -> Vec<RanOff> {
+        names
             .iter()
             .enumerate()
             .filter_map(|(i, name)| {
-                let (was, now) = (file.value(name).ok()?, *report.parameters.get(i)?);
-                let off_bounds = report.on_bound.get(i).is_none_or(Option::is_none);
+                let (was, now) = (file.value(name).ok()?, *values.get(i)?);
+                let off_bounds = on_bound.get(i).is_none_or(Option::is_none);
                 let ratio = now / was;
                 (off_bounds
                     && was != 0.0
@@ -281,13 +290,17 @@ impl Restart {
     }
 }
 
-/// The refit with the smaller error of two, or the one that did not fail.
+/// The refit with the smaller error of two (a finite error before a non-finite one; the first
+/// on a tie), or the one that did not fail.
 pub(super) fn better(
     a: Result<FitOutcome, WorkflowError>,
     b: Result<FitOutcome, WorkflowError>,
 ) -> Result<FitOutcome, WorkflowError> {
     match (a, b) {
-        (Ok(a), Ok(b)) => Ok(if last_error(&b) < last_error(&a) { b } else { a }),
+        (Ok(a), Ok(b)) => {
+            let (ea, eb) = (last_error(&a), last_error(&b));
+            Ok(if eb < ea || (eb.is_finite() && !ea.is_finite()) { b } else { a })
+        }
         (Err(_), b) => b,
         (a, Err(_)) => a,
     }
@@ -553,7 +566,8 @@ pub fn held_out(
 
 #[cfg(test)]
 mod tests {
-    use super::{Estimate, body_z, pole_z};
+    use super::{Estimate, Restart, body_z, pole_z};
+    use models::Model;
 
     fn e(value: f64, std_error: f64) -> Estimate {
         Estimate { value, std_error: Some(std_error), on_bound: false }
@@ -585,6 +599,32 @@ mod tests {
     /// 20.7 Hz, refitted at 20.28 ± 0.36 Hz with ζ 0.025 ± 0.013 (unresolved from zero), is a
     /// body and not a ringing; a frequency on a bound, or a damping ratio pressed on the top of
     /// its range (a band), is not.
+    /// The shear building's file (k₁ 2.5, k₂ 2.25, k₃ 1.875 MN/m, α 0.375 s⁻¹, β 1.25·10⁻³ s):
+    /// 20261363's reference (k₃ 380× the file's, α 40×) ran off in both; a parameter within a
+    /// decade, one on its bound at zero and one whose file value is zero did not; one that
+    /// crossed zero did.
+    #[test]
+    fn a_reference_runs_off_where_a_parameter_ends_beyond_a_decade_of_its_file_value() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/shear_building.ron");
+        let text = std::fs::read_to_string(path).unwrap();
+        let file = Model::from_ron(&text, "shear_building.ron").unwrap();
+        let names: Vec<String> = ["k1", "k2", "k3", "alpha", "beta"].map(String::from).to_vec();
+        let ran = |values: &[f64], on_bound: &[Option<mem::Side>]| -> Vec<String> {
+            Restart::ran_off_of(&file, &names, values, on_bound).into_iter().map(|r| r.name).collect()
+        };
+        let free = [None; 5];
+        assert_eq!(
+            ran(&[2.57e6, 1.35e6, 7.11e8, 14.99, 0.0], &[None, None, None, None, Some(mem::Side::Lower)]),
+            ["k3", "alpha"]
+        );
+        assert!(ran(&[2.4e7, 2.3e5, 1.875e6, 3.0, 1.3e-4], &free).is_empty(), "within a decade each way");
+        assert_eq!(ran(&[2.6e7, 2.2e5, 1.875e6, 0.375, 1.25e-3], &free), ["k1", "k2"]);
+        assert_eq!(ran(&[2.5e6, 2.25e6, -1.0e6, 0.375, 1.25e-3], &free), ["k3"], "across zero");
+        let mut zero = file.clone();
+        zero.set("beta", 0.0).unwrap();
+        assert!(Restart::ran_off_of(&zero, &names[4..], &[1.0], &[None]).is_empty(), "no decade of zero");
+    }
+
     #[test]
     fn a_body_is_located_by_its_frequency_and_its_damping_may_be_unresolved() {
         let (f, zeta) = (e(20.28, 0.36), e(0.025, 0.013));
