@@ -92,9 +92,12 @@ impl Assess<'_> {
                 .run();
             }
         }
+        // The catalog's trials asked for, made at a model (their starts and bounds scaled by it).
+        let trials_at = |model: &Model| -> Vec<Trial> {
+            catalog::trials(model, data, &localisation).into_iter().filter(|t| wanted(t.kind)).collect()
+        };
         let start = reference.outcome.fitted.clone();
-        let trials: Vec<Trial> =
-            catalog::trials(&start, data, &localisation).into_iter().filter(|t| wanted(t.kind)).collect();
+        let trials = trials_at(&start);
         // Every candidate is refitted on half the record: it needs 10 readings a parameter there.
         let parameters = free.len() + trials.iter().map(|t| t.freed.len()).max().unwrap_or(0);
         let residuals = data.n_samples() * data.n_outputs();
@@ -105,13 +108,7 @@ impl Assess<'_> {
         let restart = (!ran_off.is_empty())
             .then(|| Restart::model(file, &reference.outcome, free))
             .flatten()
-            .map(|model| {
-                let trials = catalog::trials(&model, data, &localisation)
-                    .into_iter()
-                    .filter(|t| wanted(t.kind))
-                    .collect();
-                Restart { model, trials }
-            });
+            .map(|model| Restart { trials: trials_at(&model), model });
         let score::Scores { mut candidates, noise, reference_likelihoods, coloured } = score::Scoring {
             start: &start,
             restart: restart.as_ref(),
