@@ -57,8 +57,9 @@
 //!   step Δ is the interval [y − Δ/2, y + Δ/2]; its residual is the model output's distance to it.
 //! * **Honest uncertainty** ([`Statistics`]): a sandwich covariance over output series (white,
 //!   or AR(1) when the residuals are correlated, [`Covariance`]), Student-t intervals; no
-//!   interval for a parameter the data do not determine, a one-sided profile interval for one
-//!   held on a bound; [`FitReport::warnings`] says what the user must know.
+//!   interval for a parameter the data do not determine (in a dependent combination, or
+//!   resolved no better than its bounds allow), a one-sided profile interval for one held on a
+//!   bound; [`FitReport::warnings`] says what the user must know.
 //! * **Identifiability** ([`Identifiability`]): nearly dependent columns of the equilibrated S,
 //!   told in words ("scaling m1, k1 together leaves the outputs unchanged").
 //! * **Checks at the start**: the sensitivities against central differences (an error on a

@@ -59,7 +59,8 @@ impl<'a> Problem<'a> {
     /// # Errors
     /// [`MemError::Parameter`] for a repeated name, a non-finite start, bounds with lower ≥
     /// upper or a start outside them, a non-positive typical size; [`MemError::Shape`] and
-    /// [`MemError::OutputNames`] if an experiment's model, data and weights disagree.
+    /// [`MemError::OutputNames`] if an experiment's model, data and weights disagree;
+    /// [`MemError::InvalidData`] for fewer readings than parameters.
     pub fn new(experiments: Vec<Experiment<'a>>, parameters: Vec<Parameter>) -> Result<Self, MemError> {
         if experiments.is_empty() {
             return Err(MemError::Shape("at least one experiment is needed".into()));
@@ -92,6 +93,13 @@ impl<'a> Problem<'a> {
         }
         for (i, e) in experiments.iter().enumerate() {
             e.validate(i, parameters.len())?;
+        }
+        let readings: usize = experiments.iter().map(|e| e.data.n_samples() * e.data.n_outputs()).sum();
+        if readings < parameters.len() {
+            return Err(MemError::InvalidData(format!(
+                "the records hold {readings} readings (samples × outputs), fewer than the {} parameters to fit; give a longer record or free fewer parameters",
+                parameters.len()
+            )));
         }
         Ok(Self { experiments, parameters })
     }

@@ -130,14 +130,24 @@ impl FitOutcome {
 pub fn align(model: &Model, data: &Measurement) -> Result<Measurement, ModelError> {
     let outputs = model.output_names();
     let inputs = model.input_names();
-    let mismatch = || ModelError::Columns {
-        data: data
+    let mismatch = || {
+        let given: Vec<String> = data
             .names()
             .iter()
             .cloned()
             .chain(data.inputs().iter().flat_map(|i| i.names().to_vec()))
-            .collect(),
-        model: outputs.iter().chain(&inputs).cloned().collect(),
+            .collect();
+        let model: Vec<String> = outputs.iter().chain(&inputs).cloned().collect();
+        // An input the data hold as an output column (or the reverse) is in the wrong role.
+        let held = |name: &String, role: &[String]| role.contains(name);
+        let data_inputs: Vec<String> = data.inputs().map(|i| i.names().to_vec()).unwrap_or_default();
+        let missing = outputs
+            .iter()
+            .filter(|o| !held(o, data.names()))
+            .chain(inputs.iter().filter(|i| !held(i, data.names()) && !held(i, &data_inputs)))
+            .cloned()
+            .collect();
+        ModelError::Columns { data: given, model, missing }
     };
     let data = match (data.inputs(), inputs.is_empty()) {
         (None, false) => {
@@ -203,10 +213,7 @@ pub fn fit_experiments(
     let shared: Vec<&str> = request.free.iter().map(|s| s.as_str()).collect();
     let own: Vec<&str> = request.per_experiment.iter().map(|s| s.as_str()).collect();
     if let Some(both) = own.iter().find(|o| shared.contains(o)) {
-        return Err(ModelError::UnknownParameter {
-            name: both.to_string(),
-            valid: "a parameter is either shared or per experiment, not both".into(),
-        });
+        return Err(ModelError::SharedAndOwn { name: both.to_string() });
     }
     let local: Vec<&str> = shared.iter().chain(&own).copied().collect();
     let responses: Vec<Box<dyn ResponseModel + Send + Sync>> =

@@ -38,6 +38,15 @@ pub use simulate::{simulate, simulate_model};
 pub use slewing::SlewingFitModel;
 pub use structure::StructureFitModel;
 
+/// The model's columns a record lacks, in words.
+fn absent(missing: &[String]) -> String {
+    if missing.is_empty() {
+        "each is there, but in another order or role".into()
+    } else {
+        format!("missing: {}", missing.join(", "))
+    }
+}
+
 /// What can go wrong between a model description and `mem`.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -84,12 +93,25 @@ pub enum ModelError {
         /// The model's kind.
         model: ModelKind,
     },
-    /// The data's columns are not the model's outputs.
-    #[error("the data columns {data:?} do not match the model's outputs {model:?}")]
+    /// The data's columns are not the model's outputs and inputs.
+    #[error(
+        "the data columns {data:?} do not match the model's outputs and inputs {model:?}; {}; name the header's columns as the model file does",
+        absent(missing)
+    )]
     Columns {
         /// Columns of the data (after the time column).
         data: Vec<String>,
-        /// Outputs of the model.
+        /// Outputs of the model, then its inputs.
         model: Vec<String>,
+        /// The model's columns the data do not hold (or hold in another role).
+        missing: Vec<String>,
+    },
+    /// A parameter asked to be both shared by every experiment and estimated per experiment.
+    #[error(
+        "parameter `{name}` is given both as shared (--free) and per experiment (--per-experiment); give it in one of them"
+    )]
+    SharedAndOwn {
+        /// The parameter.
+        name: String,
     },
 }

@@ -72,6 +72,18 @@ pub enum Warning {
         /// σ/σ_max of the combination.
         ratio: f64,
     },
+    /// A parameter's 95 % interval would hold all of its bounded range: the data do not narrow
+    /// it beyond its bounds (every column of S small beside the noise), and it gets no interval.
+    SpansBounds {
+        /// The parameter.
+        parameter: String,
+        /// The half width t·σ the interval would have (a one-sided interval's whole width).
+        half_width: f64,
+        /// Its lower bound.
+        lower: f64,
+        /// Its upper bound.
+        upper: f64,
+    },
     /// A parameter ended on a bound that the data pull it beyond.
     ActiveBound {
         /// The parameter.
@@ -148,6 +160,12 @@ impl std::fmt::Display for Warning {
                     "not determined by the data: {sentence} (relative singular value {ratio:.1e}); no interval for these"
                 )
             }
+            Warning::SpansBounds { parameter, half_width, lower, upper } => write!(
+                f,
+                "`{parameter}` is not determined by the data: its 95 % interval (± {half_width:.3e}) would hold all of its bounds [{}, {}]; no interval for it (is the record long and fine enough for the model's dynamics?)",
+                Number(*lower),
+                Number(*upper)
+            ),
             Warning::ActiveBound { parameter, side, bound, release_gain } => write!(
                 f,
                 "`{parameter}` stopped on its {} bound {}; the data pull it beyond (releasing the bound would lower ‖Y_error‖ by about {:.1} %): its interval is one-sided",
@@ -288,7 +306,7 @@ pub(crate) fn finish(
     let undetermined: Vec<bool> =
         (0..j).map(|i| identifiability.undetermined.iter().any(|c| c.involves(i))).collect();
     let rank = solver.as_ref().map_or(0, |s| s.rank);
-    let (statistics, series) = statistics::analyse(
+    let (statistics, series, spanning) = statistics::analyse(
         fit,
         problem,
         &p,
@@ -307,9 +325,20 @@ pub(crate) fn finish(
             ratio: c.ratio,
         });
     }
+    for &(i, half_width) in &spanning {
+        let parameter = &problem.parameters[i];
+        warnings.push(Warning::SpansBounds {
+            parameter: names[i].clone(),
+            half_width,
+            lower: parameter.lower,
+            upper: parameter.upper,
+        });
+    }
     // An undetermined parameter resting on a bound is not held there by the data (the
     // rank-deficiency warning says what it is).
-    for (i, side) in on_bound.iter().enumerate().filter(|&(i, _)| !undetermined[i]) {
+    // Nor is one whose interval from the bound would hold all of its box (`SpansBounds`).
+    let told = |i: usize| undetermined[i] || spanning.iter().any(|&(s, _)| s == i);
+    for (i, side) in on_bound.iter().enumerate().filter(|&(i, _)| !told(i)) {
         if let Some(side) = side {
             warnings.push(Warning::ActiveBound {
                 parameter: names[i].clone(),

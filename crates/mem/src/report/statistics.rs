@@ -11,7 +11,9 @@
 //!   when it rests on a bound; for a determined parameter held on a bound, a **one-sided** 95 %
 //!   profile-likelihood interval from the bound into the box, from the linearised profile
 //!   Δ(d) = −2g d + e d² (g = s_iᵀr, e = ‖(I − H)s_i‖², H the projection on the other free
-//!   columns) against σ̂²·χ²₁(0.90) = σ̂²·2.706 (the boundary case's ½χ²₀ + ½χ²₁ law).
+//!   columns) against σ̂²·χ²₁(0.90) = σ̂²·2.706 (the boundary case's ½χ²₀ + ½χ²₁ law); **none**
+//!   for a parameter with finite bounds whose interval, symmetric or one-sided, would hold all
+//!   of its box ([`spans_bounds`]: the data do not narrow it beyond its bounds).
 //! * **Conditional standard errors**: σ²_i|H = Σ_ii − Σ_iH Σ_HH⁻¹ Σ_Hi, parameter i's variance
 //!   with the parameters H fixed at their estimates (a Schur complement; for independent errors,
 //!   to first order the variance a fit without H free would report; under the AR(1) sandwich
@@ -66,6 +68,21 @@ impl Interval {
             Interval::Undetermined => false,
         }
     }
+}
+
+/// Whether the interval [`lower`, `upper`] holds all of the parameter's box, both of whose bounds
+/// are finite: then the data narrow it no further than its bounds do, and no interval is told.
+///
+/// The rank test ([`super::identifiability`]) is scale-free: it finds a combination the data
+/// cannot tell from the others, not one they cannot resolve against the noise. Where every
+/// column of S is small beside the noise — a record far too short or too coarse for the
+/// model's dynamics — each parameter is resolved as well as the others, and its interval is
+/// the noise over a tiny sensitivity: ±10⁵⁰ on a stiffness bounded to [0, 10¹⁰].
+pub(crate) fn spans_bounds(parameter: &crate::Parameter, lower: f64, upper: f64) -> bool {
+    parameter.lower.is_finite()
+        && parameter.upper.is_finite()
+        && lower <= parameter.lower
+        && upper >= parameter.upper
 }
 
 /// The noise of one output series as the residuals show it.
@@ -138,7 +155,9 @@ fn ar1_apply(g: &[f64], rho: f64) -> Vec<f64> {
     (0..n).map(|k| forward[k] + backward[k] - g[k]).collect()
 }
 
-/// The statistics of the final point and the per-series noise.
+/// The statistics of the final point, the per-series noise, and the parameters whose interval
+/// would hold all of their bounds ([`spans_bounds`]) with that interval's half width (a one-sided
+/// interval's whole width).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn analyse(
     fit: &Fit,
@@ -150,7 +169,7 @@ pub(crate) fn analyse(
     solver: Option<&StepSolver>,
     on_bound: &[Option<Side>],
     undetermined: &[bool],
-) -> Result<(Statistics, Vec<SeriesNoise>), MemError> {
+) -> Result<(Statistics, Vec<SeriesNoise>, Vec<(usize, f64)>), MemError> {
     let j = p.len();
     let m = last.residual.len();
     let rank = solver.map_or(0, |s| s.rank);
@@ -218,6 +237,7 @@ pub(crate) fn analyse(
     let t = t_quantile_975(dof);
     let mut std_errors = Vec::with_capacity(j);
     let mut intervals = Vec::with_capacity(j);
+    let mut spanning = Vec::new();
     for i in 0..j {
         if undetermined[i] {
             // Also on a bound: the profile is flat along the combination, so a one-sided
@@ -227,14 +247,27 @@ pub(crate) fn analyse(
         } else if let Some(side) = on_bound[i] {
             std_errors.push(None);
             let others: Vec<usize> = free.iter().copied().filter(|&l| l != i).collect();
-            intervals.push(one_sided(last, &others, i, side, p[i], variance, fit.rank_cutoff)?);
+            match one_sided(last, &others, i, side, p[i], variance, fit.rank_cutoff)? {
+                Interval::OneSided { lower, upper } if spans_bounds(&problem.parameters[i], lower, upper) => {
+                    spanning.push((i, upper - lower));
+                    intervals.push(Interval::Undetermined);
+                }
+                interval => intervals.push(interval),
+            }
         } else if !covariance[(i, i)].is_finite() {
             std_errors.push(None);
             intervals.push(Interval::Undetermined);
         } else {
             let se = covariance[(i, i)].max(0.0).sqrt();
-            std_errors.push(Some(se));
-            intervals.push(Interval::Symmetric { lower: p[i] - t * se, upper: p[i] + t * se });
+            let (lower, upper) = (p[i] - t * se, p[i] + t * se);
+            if spans_bounds(&problem.parameters[i], lower, upper) {
+                spanning.push((i, t * se));
+                std_errors.push(None);
+                intervals.push(Interval::Undetermined);
+            } else {
+                std_errors.push(Some(se));
+                intervals.push(Interval::Symmetric { lower, upper });
+            }
         }
     }
     let blank = |m: &mut Mat<f64>, i: usize| {
@@ -271,7 +304,7 @@ pub(crate) fn analyse(
         correlation,
         series: noise.clone(),
     };
-    Ok((statistics, noise))
+    Ok((statistics, noise, spanning))
 }
 
 impl Statistics {

@@ -254,6 +254,23 @@ fn bad_inputs_give_one_line_and_status_2() {
     );
     let usage = memid(&["fit", "--model"]);
     assert_eq!(usage.status.code(), Some(2));
+    // A forced structure's record without its force column: the column is named as missing.
+    let forced = fixture("shear_building_forced_q.ron");
+    let unforced = csv("unforced.csv", "t,q1,q3\n0,0,0\n0.005,1e-6,2e-6\n0.01,2e-6,3e-6\n");
+    assert_bad(
+        &memid(&["fit", "--model", p(&forced), "--data", p(&unforced), "--free", "k1"]),
+        "missing: u; name the header's columns as the model file does",
+    );
+    // Too short a record for the parameters asked for: refused by count, not by a solver's shape.
+    let two = csv("two.csv", "t,u,q1,q3\n0,1,0,0\n0.005,2,1e-6,2e-6\n");
+    assert_bad(
+        &memid(&["fit", "--model", p(&forced), "--data", p(&two), "--free", "k1,k2,k3,alpha,beta"]),
+        "the records hold 4 readings (samples × outputs), fewer than the 5 parameters",
+    );
+    assert_bad(
+        &memid(&["fit", "--model", p(&forced), "--data", p(&two), "--free", "k1", "--per-experiment", "k1"]),
+        "parameter `k1` is given both as shared (--free) and per experiment (--per-experiment)",
+    );
 }
 
 #[test]

@@ -147,6 +147,19 @@ fn singular_mass_points_at_the_mass_matrix() {
 }
 
 #[test]
+fn a_mass_matrix_without_positive_kinetic_energy_points_at_the_mass_matrix() {
+    // A negative mass, and a coupling of floors 1 and 2 larger than their masses
+    // (det [[1000, 1500], [1500, 1000]] < 0): ½ q̇ᵀ M q̇ < 0 for some motion, though M is regular.
+    for text in [
+        edited(r#""m2": (value: 1000"#, r#""m2": (value: -1000"#),
+        edited(r#"[["m1", 0, 0], [0, "m2", 0]"#, r#"[["m1", 1500, 0], [1500, "m2", 0]"#),
+    ] {
+        let message = error_at(&text, "mass: [[", "[[").to_string();
+        assert!(message.contains("not positive definite"), "{message}");
+    }
+}
+
+#[test]
 fn non_finite_entries_at_the_file_values_point_at_the_entry() {
     let text = edited(r#""-k3", "k3"]"#, r#""-k3", "k3/(k1 - k1)"]"#);
     let message = error_at(&text, r#""k3/(k1 - k1)""#, r#"""#).to_string();

@@ -158,3 +158,64 @@ fn a_parameter_on_its_bound_that_the_data_do_not_determine_gets_no_interval() {
         assert!(matches!(report.statistics.intervals[i], Interval::Symmetric { .. }), "{report}");
     }
 }
+
+/// ẋ₁ = −a x₁, ẋ₂ = −b x₂ from x(0) = (1, 1), each state measured: two decays that the data
+/// tell apart whatever the record (their sensitivities −t e^{−at} lie on different outputs).
+struct TwoDecays;
+impl LinearModel for TwoDecays {
+    type Error = std::convert::Infallible;
+    fn n_states(&self) -> usize {
+        2
+    }
+    fn n_params(&self) -> usize {
+        2
+    }
+    fn output_names(&self) -> Vec<String> {
+        vec!["y1".into(), "y2".into()]
+    }
+    fn linearize(&self, p: &[f64]) -> Result<Linearized, Self::Error> {
+        Ok(Linearized::new(
+            mat![[-p[0], 0.0], [0.0, -p[1]]],
+            vec![mat![[-1.0, 0.0], [0.0, 0.0]], mat![[0.0, 0.0], [0.0, -1.0]]],
+            mat![[1.0, 0.0], [0.0, 1.0]],
+            vec![1.0, 1.0],
+        ))
+    }
+}
+
+/// A record of 50 samples 10⁻⁹ s apart of two decays at rates 0.5 and 1 s⁻¹: each output moves
+/// by about a·t ≈ 2.5·10⁻⁸ of its size, so neither rate is resolved against 1 % noise (a
+/// standard error of about 0.01/(3·10⁻⁸·√50) ≈ 5·10⁴ s⁻¹) — yet each is resolved as well as the
+/// other, and the scale-free rank test finds no combination. An interval that would hold all of
+/// a bounded parameter's box, [0, 100] s⁻¹, is not told.
+#[test]
+fn a_record_too_short_for_the_dynamics_gets_no_interval_where_it_would_hold_all_the_bounds() {
+    let model = LinearResponse(TwoDecays);
+    let bounded = || {
+        vec![
+            Parameter::new("a", 0.6).with_bounds(0.0, 100.0),
+            Parameter::new("b", 0.9).with_bounds(0.0, 100.0),
+        ]
+    };
+    let blink = add_noise(&simulate_measurement(&model, &[0.5, 1.0], 1e-9, 50, 0.0, 0), 0.01, 11);
+    let problem = Problem::new(vec![Experiment::new(&model, &blink)], bounded()).unwrap();
+    let report = Fit::new().run(&problem).unwrap();
+    assert!(report.identifiability.undetermined.is_empty(), "{:?}", report.identifiability);
+    for (i, name) in ["a", "b"].iter().enumerate() {
+        assert_eq!(report.std_error(i), None, "{name}: {report}");
+        assert_eq!(report.statistics.intervals[i], Interval::Undetermined, "{name}");
+        let half_width = report.warnings().iter().find_map(|w| match w {
+            Warning::SpansBounds { parameter, half_width, .. } if parameter == name => Some(*half_width),
+            _ => None,
+        });
+        assert!(half_width.is_some_and(|h| h > 1e3), "{name}: {:?}", report.warnings());
+    }
+    // The same bounds on a record that resolves the decays: ordinary intervals inside them.
+    let decay = add_noise(&simulate_measurement(&model, &[0.5, 1.0], 0.05, 400, 0.0, 0), 0.01, 11);
+    let problem = Problem::new(vec![Experiment::new(&model, &decay)], bounded()).unwrap();
+    let report = Fit::new().run(&problem).unwrap();
+    for i in 0..2 {
+        assert!(matches!(report.statistics.intervals[i], Interval::Symmetric { .. }), "{report}");
+    }
+    assert!(!report.warnings().iter().any(|w| matches!(w, Warning::SpansBounds { .. })));
+}

@@ -124,3 +124,18 @@ fn a_response_that_depends_on_nothing_is_refused_with_or_without_the_derivative_
         assert!(error.to_string().contains("does not change with any parameter"), "{error}");
     }
 }
+
+#[test]
+fn fewer_readings_than_parameters_are_refused_by_count() {
+    let model = LinearResponse(Exact(ShearBuilding::displacements()));
+    // Two samples of two outputs: four readings for five parameters.
+    let two = simulate_measurement(&model, &ShearBuilding::NOMINAL, 0.005, 2, 0.0, 0);
+    let error = Problem::unnamed(vec![Experiment::new(&model, &two)], &ShearBuilding::NOMINAL).err().unwrap();
+    assert!(matches!(error, MemError::InvalidData(_)), "{error}");
+    assert!(
+        error.to_string().contains("4 readings") && error.to_string().contains("5 parameters"),
+        "{error}"
+    );
+    let three = simulate_measurement(&model, &ShearBuilding::NOMINAL, 0.005, 3, 0.0, 0);
+    assert!(Problem::unnamed(vec![Experiment::new(&model, &three)], &ShearBuilding::NOMINAL).is_ok());
+}
