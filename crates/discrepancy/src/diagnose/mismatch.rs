@@ -100,12 +100,16 @@ fn structure_fixed(model: &structure::StructureModel) -> Vec<(String, (f64, f64)
         .collect()
 }
 
-/// Whether a fit determines parameter `name`: a standard error below half its value's size,
-/// and not at a bound.
+/// Whether a fit determines parameter `name`: a local standard error below half its value's
+/// size, and not at a bound. The local one ([`mem::Statistics::local_std_error`]): the ranges
+/// the diagnosis refits its parameters in are its own search boxes, not the model file's bounds,
+/// and a parameter resolved to a third of its size is determined here though its interval would
+/// hold all of a ±30 % box (where the report tells no interval).
 pub fn determined(outcome: &FitOutcome, name: &str) -> bool {
     let r = &outcome.report;
     r.names.iter().position(|n| n == name).is_some_and(|i| {
-        r.on_bound[i].is_none() && r.std_error(i).is_some_and(|se| se < 0.5 * r.parameters[i].abs())
+        r.on_bound[i].is_none()
+            && r.statistics.local_std_error(i).is_some_and(|se| se < 0.5 * r.parameters[i].abs())
     })
 }
 

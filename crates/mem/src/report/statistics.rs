@@ -112,10 +112,13 @@ pub struct Statistics {
     /// The covariance (j × j; rows and columns of undetermined or bound parameters are NaN).
     #[serde(serialize_with = "matrix")]
     pub covariance: Mat<f64>,
-    /// The same covariance with the rows and columns of parameters held on a bound kept: their
-    /// local, linearised uncertainty as if they were free (NaN only where undetermined). Not an
-    /// interval for them (a bound parameter's is one-sided); it is what a test that holds such a
-    /// parameter at its estimate conditions on ([`Statistics::conditional_std_error`]).
+    /// The same covariance with the rows and columns of parameters held on a bound, or whose
+    /// interval would hold all of their box ([`spans_bounds`]), kept: their local, linearised
+    /// uncertainty as if they were free and unbounded (NaN only where a combination is
+    /// undetermined). Not an interval for them (a bound parameter's is one-sided); it is what a
+    /// test that holds such a parameter at its estimate conditions on
+    /// ([`Statistics::conditional_std_error`]), and what a caller that weighs a parameter inside a
+    /// range it chose itself reads ([`Statistics::local_std_error`]).
     #[serde(skip)]
     pub local_covariance: Mat<f64>,
     /// √diag(covariance); None where the data do not determine the parameter or it is held on
@@ -279,11 +282,14 @@ pub(crate) fn analyse(
     let mut local_covariance = covariance.clone();
     for i in 0..j {
         let local = covariance[(i, i)];
-        let held_but_determined =
-            on_bound[i].is_some() && !undetermined[i] && local.is_finite() && local > 0.0;
+        // Held on a bound, or resolved no better than its box: a local uncertainty all the same.
+        let kept_locally = (on_bound[i].is_some() || spanning.iter().any(|&(s, _)| s == i))
+            && !undetermined[i]
+            && local.is_finite()
+            && local > 0.0;
         if std_errors[i].is_none() {
             blank(&mut covariance, i);
-            if !held_but_determined {
+            if !kept_locally {
                 blank(&mut local_covariance, i);
             }
         }
@@ -308,6 +314,14 @@ pub(crate) fn analyse(
 }
 
 impl Statistics {
+    /// Parameter i's local standard error, √ of [`Statistics::local_covariance`]'s diagonal:
+    /// also where it is held on a bound or its interval would hold all of its box (and then it
+    /// is not an interval); `None` where a combination it is in is undetermined.
+    pub fn local_std_error(&self, i: usize) -> Option<f64> {
+        let variance = self.local_covariance[(i, i)];
+        variance.is_finite().then(|| variance.max(0.0).sqrt())
+    }
+
     /// The standard error of a quantity derived from the parameters, whose gradient over them is
     /// `gradient` (one entry per parameter): √(gᵀΣg), the delta method over [`Statistics::covariance`].
     /// None where a parameter it depends on (gᵢ ≠ 0) has no determined covariance (undetermined

@@ -209,6 +209,9 @@ fn a_record_too_short_for_the_dynamics_gets_no_interval_where_it_would_hold_all_
             _ => None,
         });
         assert!(half_width.is_some_and(|h| h > 1e3), "{name}: {:?}", report.warnings());
+        // Its local uncertainty is kept for a caller weighing it in a range of its own.
+        let local = report.statistics.local_std_error(i);
+        assert!(local.is_some_and(|s| s > 1e3 && s.is_finite()), "{name}: {local:?}");
     }
     // The same bounds on a record that resolves the decays: ordinary intervals inside them.
     let decay = add_noise(&simulate_measurement(&model, &[0.5, 1.0], 0.05, 400, 0.0, 0), 0.01, 11);
