@@ -306,7 +306,7 @@ pub(crate) fn finish(
     let undetermined: Vec<bool> =
         (0..j).map(|i| identifiability.undetermined.iter().any(|c| c.involves(i))).collect();
     let rank = solver.as_ref().map_or(0, |s| s.rank);
-    let (statistics, series, spanning) = statistics::analyse(
+    let statistics::Analysed { statistics, series, spanning } = statistics::analyse(
         fit,
         problem,
         &p,

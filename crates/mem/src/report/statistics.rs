@@ -158,9 +158,18 @@ fn ar1_apply(g: &[f64], rho: f64) -> Vec<f64> {
     (0..n).map(|k| forward[k] + backward[k] - g[k]).collect()
 }
 
-/// The statistics of the final point, the per-series noise, and the parameters whose interval
-/// would hold all of their bounds ([`spans_bounds`]) with that interval's half width (a one-sided
-/// interval's whole width).
+/// What [`analyse`] finds at the final point.
+pub(crate) struct Analysed {
+    /// The parameters' uncertainty.
+    pub statistics: Statistics,
+    /// The noise of each output series.
+    pub series: Vec<SeriesNoise>,
+    /// The parameters whose interval would hold all of their bounds ([`spans_bounds`]), with
+    /// that interval's half width (a one-sided interval's whole width).
+    pub spanning: Vec<(usize, f64)>,
+}
+
+/// The statistics of the final point ([`Analysed`]).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn analyse(
     fit: &Fit,
@@ -172,7 +181,7 @@ pub(crate) fn analyse(
     solver: Option<&StepSolver>,
     on_bound: &[Option<Side>],
     undetermined: &[bool],
-) -> Result<(Statistics, Vec<SeriesNoise>, Vec<(usize, f64)>), MemError> {
+) -> Result<Analysed, MemError> {
     let j = p.len();
     let m = last.residual.len();
     let rank = solver.map_or(0, |s| s.rank);
@@ -310,7 +319,7 @@ pub(crate) fn analyse(
         correlation,
         series: noise.clone(),
     };
-    Ok((statistics, noise, spanning))
+    Ok(Analysed { statistics, series: noise, spanning })
 }
 
 impl Statistics {
