@@ -74,14 +74,16 @@ pub enum WorkflowError {
     },
     /// Too few readings to score candidates on half the record each.
     #[error(
-        "the record is too short to diagnose: {residuals} readings for models of up to {parameters} parameters; \
-         each half of the record must hold 10 readings per parameter, so give at least {needed} readings \
-         (samples × outputs)"
+        "the record is too short to diagnose: {residuals} readings for the models it asks to try, of up to \
+         {parameters} parameters; each half of the record must hold 10 readings per parameter, so give at least \
+         {needed} readings (samples × outputs; a longer record may show more to try, and ask for more)"
     )]
     TooShort {
         /// Samples × outputs of the record as fitted.
         residuals: usize,
-        /// The largest candidate's parameter count.
+        /// The largest candidate's parameter count. The catalog's trials depend on what the
+        /// record's residual shows (a mode seeded where it rings), so a longer record may ask
+        /// for more.
         parameters: usize,
         /// The readings needed.
         needed: usize,
