@@ -138,15 +138,7 @@ pub fn align(model: &Model, data: &Measurement) -> Result<Measurement, ModelErro
             .chain(data.inputs().iter().flat_map(|i| i.names().to_vec()))
             .collect();
         let model: Vec<String> = outputs.iter().chain(&inputs).cloned().collect();
-        // An input the data hold as an output column (or the reverse) is in the wrong role.
-        let held = |name: &String, role: &[String]| role.contains(name);
-        let data_inputs: Vec<String> = data.inputs().map(|i| i.names().to_vec()).unwrap_or_default();
-        let missing = outputs
-            .iter()
-            .filter(|o| !held(o, data.names()))
-            .chain(inputs.iter().filter(|i| !held(i, data.names()) && !held(i, &data_inputs)))
-            .cloned()
-            .collect();
+        let missing = model.iter().filter(|c| !given.contains(c)).cloned().collect();
         ModelError::Columns { data: given, model, missing }
     };
     let data = match (data.inputs(), inputs.is_empty()) {

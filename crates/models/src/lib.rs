@@ -103,7 +103,8 @@ pub enum ModelError {
         data: Vec<String>,
         /// Outputs of the model, then its inputs.
         model: Vec<String>,
-        /// The model's columns the data do not hold (or hold in another role).
+        /// The model's columns the data do not hold (empty: all are there, in another order
+        /// or role).
         missing: Vec<String>,
     },
     /// A parameter asked to be both shared by every experiment and estimated per experiment.
