@@ -478,3 +478,23 @@ fn where_the_baseline_runs_off_a_strong_friction_is_found_from_the_files_values(
     let secondary = d.secondary.as_ref().expect("a floor's mass weighed beside the friction");
     assert!(secondary.gain > -20.0 && !secondary.kept, "{secondary:?}");
 }
+
+/// A −1 % scale on the q1 gauge of the forced draw 20261367 (`A_scale_medium_s0`, copied as
+/// `study_scale_q1_noisy_force.csv`; a random force recorded with 1 % noise, white sensor noise
+/// 0.57 %). The floor masses are refitted beside the scale (they gain 251.9 nats), and then a
+/// scale common to both gauges is theirs: only the ratio of the two gauges' readings is seen, and
+/// the q1 and q3 scales predict the held-out blocks alike (24.3 and 23.9 nats). The answer must
+/// name the truth's gauge: as the effect, or as the other gauge that fits as well.
+#[test]
+fn on_a_noisy_force_a_scale_seen_only_as_a_ratio_of_gauges_names_both() {
+    let d = run("study_scale_q1_noisy_force");
+    let named = d.named().expect("a scale is named");
+    assert_eq!(named.kind, plant::EffectKind::SensorScale, "{:?}", d.answer());
+    let answer = d.answer().join("\n");
+    assert!(
+        named.label == "sensor_scale(q1)"
+            || answer.contains("sensor_scale(q1) predicts as well")
+                && answer.contains("these data see only the ratio of the gauges' readings"),
+        "{answer}"
+    );
+}
