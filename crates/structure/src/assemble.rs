@@ -12,6 +12,10 @@ use mem::{Scalar, SecondOrder, StateSpace};
 
 /// The `part` of an [`StructureError::Assembly`] for a singular mass matrix.
 pub(crate) const MASS: &str = "the mass matrix M";
+
+/// Why a mass matrix without positive kinetic energy is refused ([`Compiled::positive_mass`]).
+pub(crate) const NOT_POSITIVE_MASS: &str = "it is not positive definite (the kinetic energy ½ q̇ᵀ M q̇ would be ≤ 0 for \
+    some motion: a mass ≤ 0, or a coupling larger than the masses it joins); check the masses";
 /// The `part` of an [`StructureError::Assembly`] for modal damping that cannot be formed.
 pub(crate) const MODAL: &str = "the modal damping matrix";
 
@@ -130,6 +134,14 @@ impl Compiled {
             values.push(value);
         }
         Ok(values)
+    }
+
+    /// Whether M at the parameters `p` gives positive kinetic energy ½ q̇ᵀ M q̇ for every motion
+    /// (its symmetric part positive definite); `Ok(true)` for a first-order model. A negative
+    /// mass, or a coupling larger than the masses it joins, fails; a singular M fails too.
+    pub fn positive_mass(&self, p: &[f64]) -> Result<bool, StructureError> {
+        let Some(model) = self.second_order_at(&self.values(p)?)? else { return Ok(true) };
+        Ok(((&model.m + model.m.transpose()) * 0.5).cholesky().is_some())
     }
 
     /// M, D, K, F at the given values of all names (`None` for a first-order model).

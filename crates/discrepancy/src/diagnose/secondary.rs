@@ -93,9 +93,9 @@ pub(super) fn weigh(
 /// the trial's effect added, and the candidate's own fit with the secondary parameters `joined`
 /// at the other reference's values where it holds them fixed (freed from there where it frees
 /// them). The two accounts are nested: where the other reference frees more, its account then
-/// starts where the candidate's ends, and its refit's error is no larger. A strong roof friction refitted from a reference with
-/// one floor's mass freed (forced draw 20261363) ran to an error far above the friction's own
-/// fit, and the mass was charged −11,806 nats beside it.
+/// starts where the candidate's ends, and its refit's error is no larger. A strong roof
+/// friction refitted from a reference with one floor's mass freed (forced draw 20261363) ran to
+/// an error far above the friction's own fit, and the mass was charged −11,806 nats beside it.
 fn refitted_from(
     chosen: &Candidate,
     trial: &Trial,

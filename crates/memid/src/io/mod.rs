@@ -65,6 +65,9 @@ pub fn apply_sets(model: &mut Model, sets: &[String]) -> Result<()> {
         let (name, value) = parse_set(set)?;
         model.set(name, value).map_err(|e| anyhow!("--set {set}: {e}"))?;
     }
+    if !sets.is_empty() {
+        model.check_values().map_err(|e| anyhow!("--set {}: {e}", sets.join(" --set ")))?;
+    }
     Ok(())
 }
 

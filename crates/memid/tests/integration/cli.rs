@@ -261,6 +261,11 @@ fn bad_inputs_give_one_line_and_status_2() {
         &memid(&["fit", "--model", p(&forced), "--data", p(&unforced), "--free", "k1"]),
         "missing: u; name the header's columns as the model file does",
     );
+    // A mass set by hand is checked as the file's are: no negative kinetic energy.
+    assert_bad(
+        &memid(&["modal", "--model", p(&forced), "--set", "m1=-1000"]),
+        "--set m1=-1000: cannot assemble the mass matrix M at these parameter values: it is not positive definite",
+    );
     // Too short a record for the parameters asked for: refused by count, not by a solver's shape.
     let two = csv("two.csv", "t,u,q1,q3\n0,1,0,0\n0.005,2,1e-6,2e-6\n");
     assert_bad(

@@ -209,6 +209,20 @@ impl Model {
         Ok(())
     }
 
+    /// Checks the values a user set by hand as the file's were checked when it was read: a
+    /// structure's mass matrix must give positive kinetic energy
+    /// ([`structure::StructureModel::check_mass`]); the slewing rig's values are checked one by
+    /// one as they are set.
+    ///
+    /// # Errors
+    /// The structure's error, naming the mass matrix.
+    pub fn check_values(&self) -> Result<(), ModelError> {
+        match self {
+            Model::Slewing(_) => Ok(()),
+            Model::Structure(m) => Ok(m.check_mass()?),
+        }
+    }
+
     /// Adds an effect of the model's kind.
     ///
     /// # Errors

@@ -236,16 +236,13 @@ pub(crate) fn compile(file: &ModelFile, ctx: &Ctx) -> Result<Checked, StructureE
         }
         _ => ctx.invalid(&structure, format!("{e}")),
     })?;
-    // Kinetic energy ½ q̇ᵀ M q̇ is positive for every motion: the symmetric part of M is positive
-    // definite. A negative mass is caught here; a singular one above.
-    if let Some(model) = compiled.values(&p).ok().and_then(|v| compiled.second_order_at(&v).ok().flatten()) {
-        let symmetric = (&model.m + model.m.transpose()) * 0.5;
-        if symmetric.cholesky().is_none() {
-            return Err(ctx.invalid(
-                &structure.field("mass"),
-                "it is not positive definite (the kinetic energy ½ q̇ᵀ M q̇ would be ≤ 0 for some motion: a mass ≤ 0, or a coupling larger than the masses it joins); check the masses (at the file's values)",
-            ));
-        }
+    // Kinetic energy ½ q̇ᵀ M q̇ is positive for every motion: a negative mass is caught here, a
+    // singular one above.
+    if !compiled.positive_mass(&p).unwrap_or(true) {
+        return Err(ctx.invalid(
+            &structure.field("mass"),
+            format!("{} (at the file's values)", crate::assemble::NOT_POSITIVE_MASS),
+        ));
     }
     let hold = match file.hold {
         crate::schema::HoldKind::Zero => mem::Hold::Zero,

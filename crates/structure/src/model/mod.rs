@@ -199,6 +199,24 @@ impl StructureModel {
         Ok(())
     }
 
+    /// Checks that M at the current values gives positive kinetic energy for every motion
+    /// ([`crate::assemble::Compiled::positive_mass`]), as the file's values were checked when it
+    /// was read: for values a user set by hand ([`Self::set`] checks each alone, and a fit moves
+    /// them as the data ask).
+    ///
+    /// # Errors
+    /// [`StructureError::Assembly`] naming the mass matrix.
+    pub fn check_mass(&self) -> Result<(), StructureError> {
+        if self.checked.compiled.positive_mass(&self.values)? {
+            Ok(())
+        } else {
+            Err(StructureError::Assembly {
+                part: crate::assemble::MASS.into(),
+                reason: crate::assemble::NOT_POSITIVE_MASS.into(),
+            })
+        }
+    }
+
     /// The parameters marked `free: true`, in declaration order.
     pub fn free(&self) -> Vec<String> {
         self.checked.params.iter().filter(|p| p.free).map(|p| p.name.clone()).collect()
