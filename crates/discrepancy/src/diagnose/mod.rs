@@ -287,6 +287,7 @@ pub fn diagnose_observed(
         data: &data,
         assess: &assess,
         choose: &first_choice,
+        threshold: options.threshold,
     }
     .settle()?;
     let ((reference, reference_free), assessed, secondary) =

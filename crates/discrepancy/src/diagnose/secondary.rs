@@ -23,13 +23,20 @@
 //! refitted against it, makes the better account, or where the start kept them and chose nothing
 //! — and it is kept where its value is the higher and, if the start chose an effect, it chose the
 //! same one ([`SecondaryMismatch`]).
+//!
+//! Where the held-out blocks do not tell the start's choice from another candidate ([`tied`]),
+//! that candidate is refitted against the other reference too: the two may predict alike with the
+//! secondary parameters free and not without them (a sensor scale on either gauge, with a
+//! structure's masses free to take up their common part). Its account there is weighed against
+//! the start's, and where it is the better the other reference is assessed, and kept where its
+//! evidence chooses that candidate and its account is the better.
 
-use super::Candidate;
 use super::answer::SecondaryMismatch;
 use super::assess::Assessment;
 use super::catalog::Trial;
 use super::evidence::NoiseModel;
 use super::run::{self, Fitted};
+use super::{Candidate, Verdict};
 use crate::WorkflowError;
 use mem::Measurement;
 use models::FitOutcome;
@@ -155,6 +162,39 @@ pub(super) struct Settle<'a> {
     pub assess: &'a dyn Fn(&Reference) -> Result<Assessment, WorkflowError>,
     /// The evidence's choice in an assessment, the secondary parameters in its reference or not.
     pub choose: &'a dyn Fn(&Assessment, bool) -> Option<usize>,
+    /// The held-out gain (nats) within which two candidates are not told apart ([`tied`]).
+    pub threshold: f64,
+}
+
+/// The candidates other than the chosen `i` that the held-out blocks do not tell from it — each
+/// predicts them within `threshold` of `i`, or better — and that passed the tests of evidence
+/// or were set aside as stand-ins against this reference ([`Verdict::LeavesItsOutput`],
+/// [`Verdict::Superficial`]: tests of the structure its residual leaves, which the other
+/// reference changes), best predictor first; not a lattice, scored under a measurement model of
+/// its own.
+///
+/// Either may be the better account against the other reference. With a structure's masses
+/// freed, a sensor scale common to every gauge is a change of the masses and stiffnesses
+/// together, so the record sees only the ratio of the gauges' readings: a scale on q1 and one on
+/// q3 predict alike, and the gauge chosen by a structure test may be the one the masses must
+/// move for. The same scale on the true gauge needs no mass freed (forced draw 20261367,
+/// `A_scale_medium_s0`: a −1 % scale on q1 named on q3 with the three masses freed, which gained
+/// 251.9 nats beside the scale on q3; 24.3 nats held out on q1 against 23.9 on q3).
+fn tied(candidates: &[Candidate], i: usize, threshold: f64) -> Vec<usize> {
+    let Some(lead) = candidates[i].evidence.held_out else { return Vec::new() };
+    let eligible = |c: &Candidate| {
+        matches!(c.verdict, Verdict::Outscored | Verdict::LeavesItsOutput | Verdict::Superficial)
+            && c.kind != EffectKind::SensorQuantization
+            && c.outcome.is_some()
+    };
+    let mut found: Vec<(usize, f64)> = candidates
+        .iter()
+        .enumerate()
+        .filter(|&(j, c)| j != i && eligible(c))
+        .filter_map(|(j, c)| c.evidence.held_out.filter(|&y| lead - y < threshold).map(|y| (j, y)))
+        .collect();
+    found.sort_by(|a, b| b.1.total_cmp(&a.1));
+    found.into_iter().map(|(j, _)| j).collect()
 }
 
 /// The account of reference `r` with `chosen`.
@@ -181,7 +221,7 @@ impl Settle<'_> {
     }
 
     fn decide(self) -> Result<Settled, WorkflowError> {
-        let Settle { full, primary, joined, data, assess, choose } = self;
+        let Settle { full, primary, joined, data, assess, choose, threshold } = self;
         let m = data.n_samples() * data.n_outputs();
         if joined.is_empty() {
             let assessed = assess(&full)?;
@@ -200,21 +240,35 @@ impl Settle<'_> {
             if with_first { weigh(joined, a, b, noise, m) } else { weigh(joined, b, a, noise, m) }
         };
         let other_better = |w: &SecondaryMismatch| w.earned != with_first;
-        let beside = first.and_then(|i| {
+        // The start's account (its reference and choice) against candidate j refitted against
+        // the other reference.
+        let beside_of = |j: usize| {
             let c = refitted_from(
-                &assessed.candidates[i],
-                assessed.trials.get(i)?,
+                &assessed.candidates[j],
+                assessed.trials.get(j)?,
                 &other.0,
                 &other.1,
                 joined,
                 data,
             )?;
-            pair(&account(&start, Some(&assessed.candidates[i])), &account(&other, Some(&c)), &assessed.noise)
-        });
+            let chosen = first.map(|i| &assessed.candidates[i]);
+            pair(&account(&start, chosen), &account(&other, Some(&c)), &assessed.noise)
+        };
+        let beside = first.and_then(beside_of);
+        // The effect the other reference's account is weighed beside: the start's choice, or a
+        // candidate the held-out blocks do not tell from it whose account there is the better
+        // ([`tied`]).
+        let target = match first {
+            Some(i) if !beside.as_ref().is_some_and(other_better) => tied(&assessed.candidates, i, threshold)
+                .into_iter()
+                .find_map(|j| beside_of(j).filter(other_better).map(|w| (j, w))),
+            _ => None,
+        };
         let try_other = match first {
             None => with_first,
-            Some(_) => beside.as_ref().is_some_and(other_better),
+            Some(_) => beside.as_ref().is_some_and(other_better) || target.is_some(),
         };
+        let target = target.map(|(j, _)| j).or(first);
         let weighed = beside.or(alone);
         if !try_other {
             return Ok(Settled { reference: start, assessed, weighed, kept: with_first });
@@ -222,11 +276,11 @@ impl Settle<'_> {
         let other_assessed = assess(&other)?;
         let second = choose(&other_assessed, !with_first);
         // Where the start chose an effect, the other reference is weighed beside that effect
-        // only: an account with another effect was not chosen by the evidence that decides
-        // between effects (held out, on one reference), and the likelihood alone does not
-        // outrank it.
+        // (or the one tied with it) only: an account with another effect was not chosen by the
+        // evidence that decides between effects (held out, on one reference), and the likelihood
+        // alone does not outrank it.
         let label = |a: &Assessment, i: Option<usize>| i.map(|i| a.candidates[i].label.clone());
-        if first.is_some() && label(&assessed, first) != label(&other_assessed, second) {
+        if first.is_some() && label(&assessed, target) != label(&other_assessed, second) {
             return Ok(Settled { reference: start, assessed, weighed, kept: with_first });
         }
         let both = pair(
