@@ -21,7 +21,9 @@
 //!    parameters, such as its masses) are kept only where the account with them — the reference and what the evidence chooses against it — beats the
 //!    account without them by the BIC ([`SecondaryMismatch`], module `secondary`): a fixed
 //!    parameter freed takes up part of whatever is missing, and one effect that explains the
-//!    record better than three masses is the simpler account;
+//!    record better than three masses is the simpler account — a candidate the held-out
+//!    blocks do not tell from the choice is weighed without them too (a scale on either gauge,
+//!    when the masses take up their common part);
 //! 5. it removes at least a tenth of the structure the reference's residual holds beyond the
 //!    measurement model (what an AR(20) predictor of the residual gains over the noise's own
 //!    AR(1), [`evidence::structure`]): missing physics explains the structure it leaves, a
