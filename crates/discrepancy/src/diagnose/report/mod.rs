@@ -1,6 +1,7 @@
 //! The diagnosis in words and as the JSON document of `memid diagnose --json` (docs/json.md).
 //! The sentences are in `words.rs`.
 
+mod charges;
 mod words;
 
 use super::{Diagnosis, EffectParameter, NoiseModel, ResidualStructure, SaturationKnee};
