@@ -20,7 +20,9 @@
 //! (`cubic_q1.csv`, the spring named) and whose storey-2 spring loses stiffness early and
 //! settles (`settling_q2.csv`, the spring set aside for the law). An appendage at every
 //! coordinate for every mode seed: the building with a 35 kg appendage on floor 1 released so
-//! that it rings (`appendage_ringing_q1.csv`, named at q1).
+//! that it rings (`appendage_ringing_q1.csv`, named at q1). A gauge scale tied with the other
+//! gauge's while the masses are free, weighed again without them (`study_scale_q1_noisy_force.csv`,
+//! named at q1).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use discrepancy::{DiagnoseOptions, diagnose, quantization};
@@ -227,6 +229,18 @@ fn bench_forced(c: &mut Criterion) {
     assert!(!diagnose(&model, &noisy, &options).unwrap().noise.predictors.iter().all(Option::is_none));
     group.bench_function("diagnose/shear_building_forced_offset_q3_noisy_force", |b| {
         b.iter(|| diagnose(black_box(&model), &noisy, &options).unwrap())
+    });
+    // A gauge's scale the masses take up, tied with the other gauge's: the tied scale is
+    // refitted against the reference without the masses too, and that reference assessed again
+    // (module `secondary`, `tied`); the q1 scale is named there.
+    let ratio =
+        mem::Measurement::read_csv(&fixture("independent/forced/study_scale_q1_noisy_force.csv")).unwrap();
+    assert_eq!(
+        diagnose(&model, &ratio, &options).unwrap().named().map(|c| c.label.as_str()),
+        Some("sensor_scale(q1)")
+    );
+    group.bench_function("diagnose/shear_building_forced_scale_q1_tied_noisy_force", |b| {
+        b.iter(|| diagnose(black_box(&model), &ratio, &options).unwrap())
     });
     group.finish();
 }
