@@ -258,17 +258,17 @@ impl Settle<'_> {
         // The effect the other reference's account is weighed beside: the start's choice, or a
         // candidate the held-out blocks do not tell from it whose account there is the better
         // ([`tied`]).
-        let target = match first {
+        let tie = match first {
             Some(i) if !beside.as_ref().is_some_and(other_better) => tied(&assessed.candidates, i, threshold)
                 .into_iter()
-                .find_map(|j| beside_of(j).filter(other_better).map(|w| (j, w))),
+                .find(|&j| beside_of(j).is_some_and(|w| other_better(&w))),
             _ => None,
         };
         let try_other = match first {
             None => with_first,
-            Some(_) => beside.as_ref().is_some_and(other_better) || target.is_some(),
+            Some(_) => beside.as_ref().is_some_and(other_better) || tie.is_some(),
         };
-        let target = target.map(|(j, _)| j).or(first);
+        let target = tie.or(first);
         let weighed = beside.or(alone);
         if !try_other {
             return Ok(Settled { reference: start, assessed, weighed, kept: with_first });
