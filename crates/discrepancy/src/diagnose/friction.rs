@@ -25,7 +25,7 @@
 use super::answer::{SpringTerm, StaticPeak};
 use super::catalog::Trial;
 use super::named::{FormTest, parameter_of};
-use super::{Candidate, EffectParameter, mismatch, run};
+use super::{Candidate, EffectParameter, mismatch, run, strength};
 
 use plant::EffectKind;
 
@@ -81,7 +81,7 @@ pub(super) fn static_peak(candidate: &mut Candidate, trial: &Trial, test: &FormT
     if demanded {
         let mut wider = trial.clone();
         wider.freed.extend([peak_name, velocity_name]);
-        candidate.parameters = run::effect_parameters(&best, &wider);
+        candidate.parameters = strength::effect_parameters(&best, &wider);
         candidate.model = Some(best.fitted.clone());
         candidate.outcome = Some(best);
     }

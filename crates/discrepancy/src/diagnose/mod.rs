@@ -172,6 +172,7 @@ mod schedule;
 mod score;
 mod secondary;
 mod spring;
+mod strength;
 mod time_law;
 
 pub use answer::{

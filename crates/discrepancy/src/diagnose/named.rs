@@ -7,7 +7,7 @@
 use super::answer::last_error;
 use super::catalog::Trial;
 use super::evidence::LikelihoodFit;
-use super::{Candidate, Verdict, run};
+use super::{Candidate, Verdict, run, strength};
 use mem::Measurement;
 use models::FitOutcome;
 use models::{Model, ModelEffect};
@@ -77,7 +77,7 @@ pub(super) fn polish(candidate: &mut Candidate, trial: &Trial, free: &[String], 
     let Ok(outcome) = run::refit(from, data, &all, None, 60) else { return };
     let before = candidate.outcome.as_ref().map_or(f64::INFINITY, last_error);
     if last_error(&outcome) <= before {
-        candidate.parameters = run::effect_parameters(&outcome, &wider);
+        candidate.parameters = strength::effect_parameters(&outcome, &wider);
         candidate.model = Some(outcome.fitted.clone());
         candidate.outcome = Some(outcome);
     }

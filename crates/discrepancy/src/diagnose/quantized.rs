@@ -2,7 +2,7 @@
 //! lattice (`crate::quantization`), refitted with the quantizer when the lattice matters.
 
 use super::answer::last_error;
-use super::{Candidate, EffectParameter, Evidence, Verdict, run};
+use super::{Candidate, EffectParameter, Evidence, Verdict, run, strength};
 use crate::WorkflowError;
 use crate::quantization;
 use mem::Measurement;
@@ -86,7 +86,7 @@ pub(super) fn quantization_candidates(
             match run::refit(&model, data, free, None, 60) {
                 Ok(outcome) => {
                     candidate.evidence.reduction = 1.0 - last_error(&outcome) / last_error(baseline);
-                    candidate.evidence.whiteness_p = run::whiteness(&outcome);
+                    candidate.evidence.whiteness_p = strength::whiteness(&outcome);
                     candidate.model = Some(outcome.fitted.clone());
                     candidate.outcome = Some(outcome);
                 }

@@ -25,7 +25,7 @@
 use super::answer::SaturationKnee;
 use super::catalog::Trial;
 use super::named::{FormTest, parameter_of};
-use super::{Candidate, mismatch, run};
+use super::{Candidate, mismatch, strength};
 
 use plant::EffectKind;
 
@@ -99,12 +99,12 @@ pub(super) fn knee(candidate: &mut Candidate, trial: &Trial, test: &FormTest) ->
     if demanded {
         let mut wider = trial.clone();
         wider.freed.push(knee_name);
-        candidate.parameters = run::effect_parameters(&best, &wider);
+        candidate.parameters = strength::effect_parameters(&best, &wider);
         candidate.model = Some(best.fitted.clone());
         candidate.outcome = Some(best);
     } else if from_clamp {
         // Not demanded: the named saturation is the catalog's limiter, as the report says.
-        candidate.parameters = run::effect_parameters(&as_named, trial);
+        candidate.parameters = strength::effect_parameters(&as_named, trial);
         candidate.model = Some(as_named.fitted.clone());
         candidate.outcome = Some(as_named);
     }

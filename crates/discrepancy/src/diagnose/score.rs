@@ -8,6 +8,7 @@ use super::evidence::{self, LikelihoodFit, NoiseModel, Predictor};
 use super::force_noise;
 use super::options::MIN_STRUCTURE;
 use super::run::{self, Fitted, Folds};
+use super::strength;
 use super::{
     Candidate, DiagnoseOptions, Evidence, MIN_SENSOR_STRUCTURE_EXPLAINED, Observe, Verdict, failed, schedule,
     superficial,
@@ -154,7 +155,7 @@ impl Scoring<'_> {
             .map(|(trial, fit)| match fit {
                 Ok(fit) => {
                     let in_sample = evidence::gain(&likelihoods(&fit.outcome), &reference_likelihoods);
-                    let parameters = run::effect_parameters(&fit.outcome, trial);
+                    let parameters = strength::effect_parameters(&fit.outcome, trial);
                     // A swap trades the replaced effect's parameters for its own.
                     let added =
                         parameters.len() - usize::from(trial.replaces.is_some()).min(parameters.len());
@@ -164,9 +165,9 @@ impl Scoring<'_> {
                         in_sample,
                         delta_bic: -2.0 * in_sample + added as f64 * m.ln(),
                         held_out: None,
-                        strength_z: run::strength_z(&fit.outcome, trial),
+                        strength_z: strength::strength_z(&fit.outcome, trial),
                         reduction: 1.0 - last_error(&fit.outcome) / last_error(&reference.outcome),
-                        whiteness_p: run::whiteness(&fit.outcome),
+                        whiteness_p: strength::whiteness(&fit.outcome),
                         structure_explained,
                         structure_held: reference_structure,
                         structure_left,

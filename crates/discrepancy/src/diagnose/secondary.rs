@@ -36,6 +36,7 @@ use super::assess::Assessment;
 use super::catalog::Trial;
 use super::evidence::NoiseModel;
 use super::run::{self, Fitted};
+use super::strength;
 use super::{Candidate, Verdict};
 use crate::WorkflowError;
 use mem::Measurement;
@@ -126,7 +127,7 @@ fn refitted_from(
     }
     .ok()?;
     let mut c = chosen.clone();
-    c.parameters = run::effect_parameters(&outcome, trial);
+    c.parameters = strength::effect_parameters(&outcome, trial);
     c.model = Some(outcome.fitted.clone());
     c.outcome = Some(outcome);
     Some(c)

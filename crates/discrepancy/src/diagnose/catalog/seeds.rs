@@ -30,15 +30,15 @@ pub struct Located {
     pub pole: Pole,
 }
 
-/// What must locate a resonance for it to be named (`run::strength_z`).
+/// What must locate a resonance for it to be named (`strength::strength_z`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Pole {
     /// A ringing added to the outputs: its frequency and its decay
-    /// (`run::pole_z`). Nothing else pins it, and an oscillation of unknown
+    /// (`strength::pole_z`). Nothing else pins it, and an oscillation of unknown
     /// decay fitted over a few cycles can be any slow disturbance.
     Ringing,
     /// A body hung on the structure: its frequency alone
-    /// (`run::body_z`). It pushes back on its coordinate, and that reaction,
+    /// (`strength::body_z`). It pushes back on its coordinate, and that reaction,
     /// resolved in its mass (the strength), shows it over the whole band; its damping ratio is
     /// read only from its own resonance, which may be weak, and a lightly damped body whose
     /// damping is not resolved from zero is still there (forced draw 20261360: a 50 kg body at
