@@ -1,7 +1,8 @@
 //! The diagnosis in words and as the JSON document of `memid diagnose --json` (docs/json.md).
-//! The sentences are in `words.rs`.
+//! The sentences are in `words.rs` and `forms.rs`.
 
 mod charges;
+mod forms;
 mod words;
 
 use super::{Diagnosis, EffectParameter, NoiseModel, ResidualStructure, SaturationKnee};
