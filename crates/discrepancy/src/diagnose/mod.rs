@@ -23,7 +23,9 @@
 //!    parameter freed takes up part of whatever is missing, and one effect that explains the
 //!    record better than three masses is the simpler account — a candidate the held-out
 //!    blocks do not tell from the choice is weighed without them too (a scale on either gauge,
-//!    when the masses take up their common part);
+//!    when the masses take up their common part); on the slewing rig the beam's mass per length
+//!    stays as it joined, and where nothing is named a sensor scale that explains the record as
+//!    well in its place is reported ([`ScaleInPlace`]);
 //! 5. it removes at least a tenth of the structure the reference's residual holds beyond the
 //!    measurement model (what an AR(20) predictor of the residual gains over the noise's own
 //!    AR(1), [`evidence::structure`]): missing physics explains the structure it leaves, a
@@ -177,8 +179,8 @@ mod time_law;
 
 pub use answer::{
     AddedTerm, Candidate, DampingRival, Departures, Diagnosis, EffectParameter, Evidence, Moved,
-    RIVAL_MARGIN, Rival, SaturationKnee, ScaleChoice, SecondaryMismatch, SpringForm, SpringTerm, StaticPeak,
-    TimeLaw, Verdict,
+    RIVAL_MARGIN, Rival, SaturationKnee, ScaleChoice, ScaleInPlace, SecondaryMismatch, SpringForm,
+    SpringTerm, StaticPeak, TimeLaw, Verdict,
 };
 pub use force_noise::{
     FORCE_NOISE_EXEMPT, FORCE_NOISE_SHARE, MAX_PREDICTOR_ORDER, PREDICTOR_CONVERGED, PREDICTOR_ORDER,
@@ -281,8 +283,14 @@ pub fn diagnose_observed(
         })
     };
     // On a structure only: the slewing rig's mass per length stays as it joined (weighed there
-    // too, it moved answers both ways on the slewing studies; docs/diagnose.md).
-    let joined = if model.as_structure().is_some() { joined } else { Vec::new() };
+    // too, it moved answers both ways on the slewing studies; docs/diagnose.md). Where nothing
+    // is named there, a sensor's scale set in its place is reported ([`ScaleInPlace`]).
+    let (joined, kept_as_joined) = if model.as_structure().is_some() {
+        (joined, None)
+    } else {
+        let primary = (run::Fitted { outcome: primary.0.outcome.clone() }, primary.1.clone());
+        (Vec::new(), (!joined.is_empty()).then_some((primary, joined)))
+    };
     let settled = secondary::Settle {
         full: (reference, reference_free),
         primary,
@@ -325,8 +333,23 @@ pub fn diagnose_observed(
         coloured: coloured.as_ref(),
     }
     .run(&mut candidates);
-    // Named first, then by held-out evidence, then in-sample.
+    // On the slewing rig, where nothing is named: a sensor's scale set in place of the
+    // secondary parameters that joined ([`ScaleInPlace`]), reported, not named.
+    let scale_in_place = kept_as_joined.filter(|_| found.chosen.is_none()).and_then(|(primary, joined)| {
+        secondary::InPlace {
+            candidates: &candidates,
+            trials: &trials,
+            full: &reference,
+            primary: &primary,
+            joined: &joined,
+            noise: &noise,
+            data: &data,
+            min_strength_z: options.min_strength_z,
+        }
+        .find()
+    });
     let chosen = found.chosen;
+    // Named first, then by held-out evidence, then in-sample.
     let mut indexed: Vec<(usize, Candidate)> = candidates.into_iter().enumerate().collect();
     indexed.sort_by(|(i, a), (j, b)| {
         (Some(*j) == chosen).cmp(&(Some(*i) == chosen)).then_with(|| {
@@ -344,6 +367,7 @@ pub fn diagnose_observed(
         mismatch_parameters: mismatch,
         mismatch_gain,
         secondary,
+        scale_in_place,
         noise,
         candidates,
         chosen: chosen.map(|_| 0),

@@ -31,7 +31,7 @@
 //! the start's, and where it is the better the other reference is assessed, and kept where its
 //! evidence chooses that candidate and its account is the better.
 
-use super::answer::SecondaryMismatch;
+use super::answer::{RIVAL_MARGIN, ScaleInPlace, SecondaryMismatch};
 use super::assess::Assessment;
 use super::catalog::Trial;
 use super::evidence::NoiseModel;
@@ -296,5 +296,65 @@ impl Settle<'_> {
             Some(w) => Settled { reference: start, assessed, weighed: Some(w), kept: with_first },
             None => Settled { reference: start, assessed, weighed, kept: with_first },
         })
+    }
+}
+
+/// The problem of a sensor's scale set in place of the secondary mismatch parameters that
+/// joined a slewing reference ([`ScaleInPlace`]), where nothing was named.
+pub(super) struct InPlace<'a> {
+    /// The candidates scored against the reference with them, and their trials.
+    pub candidates: &'a [Candidate],
+    /// Their trials, in the candidates' order.
+    pub trials: &'a [Trial],
+    /// The reference with them.
+    pub full: &'a Fitted,
+    /// The reference without them, and its free parameters.
+    pub primary: &'a Reference,
+    /// The secondary parameters that joined.
+    pub joined: &'a [String],
+    /// The measurement model every candidate was scored under.
+    pub noise: &'a NoiseModel,
+    /// The record as fitted.
+    pub data: &'a Measurement,
+    /// The strength (standard errors) a scale must be resolved by.
+    pub min_strength_z: f64,
+}
+
+impl InPlace<'_> {
+    /// The sensor scale that, refitted against the reference without the secondary parameters,
+    /// explains the record best, if it explains it as well as they do (to within
+    /// [`RIVAL_MARGIN`] by the BIC) and is resolved from zero; `None` where none does.
+    pub(super) fn find(&self) -> Option<ScaleInPlace> {
+        use rayon::prelude::*;
+        let InPlace { candidates, trials, full, primary, joined, noise, data, min_strength_z } = *self;
+        if joined.is_empty() {
+            return None;
+        }
+        let m = (data.n_samples() * data.n_outputs()) as f64;
+        let total = |o: &FitOutcome| noise.log_likelihoods(&o.first().residual(), None).iter().sum::<f64>();
+        let reference = total(&full.outcome);
+        // The scale's one parameter against the joined ones.
+        let charge = (1.0 - joined.len() as f64) * m.ln() / 2.0;
+        let scales: Vec<usize> = (0..candidates.len().min(trials.len()))
+            .filter(|&i| candidates[i].kind == EffectKind::SensorScale && candidates[i].model.is_some())
+            .collect();
+        scales
+            .par_iter()
+            .filter_map(|&i| {
+                let c = refitted_from(&candidates[i], &trials[i], &primary.0, &primary.1, joined, data)?;
+                let value = c.parameters.first()?.clone();
+                let resolved =
+                    value.std_error.is_some_and(|s| s > 0.0 && value.value.abs() >= min_strength_z * s);
+                let gain = total(c.outcome.as_ref()?) - reference - charge;
+                (resolved && gain >= -RIVAL_MARGIN).then(|| ScaleInPlace {
+                    parameters: joined.to_vec(),
+                    scale: c.label.clone(),
+                    value,
+                    gain,
+                })
+            })
+            .collect::<Vec<_>>()
+            .into_iter()
+            .max_by(|a, b| a.gain.total_cmp(&b.gain))
     }
 }

@@ -12,7 +12,7 @@ use serde::Serialize;
 mod accounts;
 mod forms;
 
-pub use accounts::{AddedTerm, Departures, Moved, RIVAL_MARGIN, Rival};
+pub use accounts::{AddedTerm, Departures, Moved, RIVAL_MARGIN, Rival, ScaleInPlace};
 pub use forms::{DampingRival, SaturationKnee, SpringForm, SpringTerm, StaticPeak, TimeLaw};
 
 /// A parameter of an effect, as fitted.
@@ -249,6 +249,9 @@ pub struct Diagnosis {
     /// The mismatch parameters freed one at a time, weighed against the effect first chosen
     /// ([`SecondaryMismatch`]); `None` where there were none or nothing was chosen.
     pub secondary: Option<SecondaryMismatch>,
+    /// On the slewing rig, where nothing is named and a secondary mismatch parameter joined the
+    /// reference: a sensor's scale that explains the record as well in its place, if one does.
+    pub scale_in_place: Option<ScaleInPlace>,
     /// The measurement model every candidate was scored under.
     pub noise: NoiseModel,
     /// All candidates, named first, then by evidence.

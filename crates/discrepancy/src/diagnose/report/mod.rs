@@ -31,6 +31,11 @@ pub struct DiagnosisReport<'a> {
     /// The mismatch parameters freed one at a time, weighed against the effect first chosen
     /// ([`super::SecondaryMismatch`]); absent where there were none or nothing was chosen.
     pub secondary_mismatch: Option<&'a super::SecondaryMismatch>,
+    /// On the slewing rig, where nothing is named: a sensor's scale that explains the record as
+    /// well as the secondary mismatch parameters that joined the reference
+    /// ([`super::ScaleInPlace`]); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scale_in_place: Option<&'a super::ScaleInPlace>,
     /// What the baseline's residual holds.
     pub residual: &'a ResidualStructure,
     /// The measurement model every candidate was scored under.
@@ -94,6 +99,7 @@ impl Diagnosis {
     pub fn answer(&self) -> Vec<String> {
         let mut out = self.verdict_sentences();
         out.extend(self.secondary.as_ref().filter(|s| !s.kept).map(super::SecondaryMismatch::sentence));
+        out.extend(self.scale_in_place.as_ref().map(super::ScaleInPlace::sentence));
         out.extend(self.ran_off_sentence());
         out.extend(self.force_noise_sentence());
         out.extend(self.glitch_sentence());
@@ -199,6 +205,7 @@ impl Diagnosis {
             mismatch_parameters: &self.mismatch_parameters,
             mismatch_gain: self.mismatch_gain,
             secondary_mismatch: self.secondary.as_ref(),
+            scale_in_place: self.scale_in_place.as_ref(),
             residual: &self.residual,
             noise: &self.noise,
             candidates: &self.candidates,
