@@ -302,7 +302,7 @@ impl Settle<'_> {
 /// The problem of a sensor's scale set in place of the secondary mismatch parameters that
 /// joined a slewing reference ([`ScaleInPlace`]), where nothing was named.
 pub(super) struct InPlace<'a> {
-    /// The candidates scored against the reference with them, and their trials.
+    /// The candidates scored against the reference with them.
     pub candidates: &'a [Candidate],
     /// Their trials, in the candidates' order.
     pub trials: &'a [Trial],
