@@ -125,6 +125,17 @@ fn bench_backlash(c: &mut Criterion) {
             b.iter(|| diagnose(black_box(&model), &data, &options).unwrap())
         });
     }
+    // A strain scale the beam's mass per length takes up: nothing is named, and the scale is
+    // refitted in ρ's place (`scale_in_place`).
+    let text = std::fs::read_to_string(fixture("slewing.ron"))
+        .unwrap()
+        .replace("hub_angle: 0.5,", "hub_angle: 0.7006818341003855,");
+    let scaled = Model::from_ron(&text, "slewing.ron").unwrap();
+    let data = mem::Measurement::read_csv(&fixture("independent/effects/slewing_scale_in_place_of_rho.csv"))
+        .unwrap();
+    group.bench_function("diagnose/slewing_scale_in_place_of_rho_12.8Hz", |b| {
+        b.iter(|| diagnose(black_box(&scaled), &data, &options).unwrap())
+    });
     group.finish();
 }
 
