@@ -288,8 +288,8 @@ pub fn diagnose_observed(
     let (joined, kept_as_joined) = if model.as_structure().is_some() {
         (joined, None)
     } else {
-        let primary = (run::Fitted { outcome: primary.0.outcome.clone() }, primary.1.clone());
-        (Vec::new(), (!joined.is_empty()).then_some((primary, joined)))
+        let copy = || (run::Fitted { outcome: primary.0.outcome.clone() }, primary.1.clone());
+        (Vec::new(), (!joined.is_empty()).then(|| (copy(), joined)))
     };
     let settled = secondary::Settle {
         full: (reference, reference_free),
@@ -340,6 +340,7 @@ pub fn diagnose_observed(
             candidates: &candidates,
             trials: &trials,
             full: &reference,
+            full_free: &reference_free,
             primary: &primary,
             joined: &joined,
             noise: &noise,

@@ -308,6 +308,8 @@ pub(super) struct InPlace<'a> {
     pub trials: &'a [Trial],
     /// The reference with them.
     pub full: &'a Fitted,
+    /// Its free parameters.
+    pub full_free: &'a [String],
     /// The reference without them, and its free parameters.
     pub primary: &'a Reference,
     /// The secondary parameters that joined.
@@ -326,15 +328,12 @@ impl InPlace<'_> {
     /// [`RIVAL_MARGIN`] by the BIC) and is resolved from zero; `None` where none does.
     pub(super) fn find(&self) -> Option<ScaleInPlace> {
         use rayon::prelude::*;
-        let InPlace { candidates, trials, full, primary, joined, noise, data, min_strength_z } = *self;
+        let InPlace { candidates, trials, full, full_free, primary, joined, noise, data, min_strength_z } =
+            *self;
         if joined.is_empty() {
             return None;
         }
-        let m = (data.n_samples() * data.n_outputs()) as f64;
-        let total = |o: &FitOutcome| noise.log_likelihoods(&o.first().residual(), None).iter().sum::<f64>();
-        let reference = total(&full.outcome);
-        // The scale's one parameter against the joined ones.
-        let charge = (1.0 - joined.len() as f64) * m.ln() / 2.0;
+        let m = data.n_samples() * data.n_outputs();
         let scales: Vec<usize> = (0..candidates.len().min(trials.len()))
             .filter(|&i| candidates[i].kind == EffectKind::SensorScale && candidates[i].model.is_some())
             .collect();
@@ -345,7 +344,11 @@ impl InPlace<'_> {
                 let value = c.parameters.first()?.clone();
                 let resolved =
                     value.std_error.is_some_and(|s| s > 0.0 && value.value.abs() >= min_strength_z * s);
-                let gain = total(c.outcome.as_ref()?) - reference - charge;
+                // The two accounts weighed as the secondary parameters are: the scale's account
+                // over the reference's is what the joined parameters fall short of their charge.
+                let with = Account { reference: full, free: full_free.len(), chosen: None };
+                let w = weigh(joined, &with, &account(primary, Some(&c)), noise, m)?;
+                let gain = w.charge - w.gain;
                 (resolved && gain >= -RIVAL_MARGIN).then(|| ScaleInPlace {
                     parameters: joined.to_vec(),
                     scale: c.label.clone(),
