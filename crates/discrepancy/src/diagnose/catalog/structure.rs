@@ -411,9 +411,10 @@ const APPENDAGE_START_MASS: f64 = 0.02;
 /// frequency, which the residual shows. This start is a relaxed body (its release is held at 0,
 /// not refitted): one released stretched rings, and is seeded from the residual; refitted here,
 /// a light body's release stands in for a kick to its floor at the start (a 0.1 kg body at
-/// 38 Hz released with 9 kN, 5.6 σ, answered a −0.5 % gauge scale on 20261374). On the free-decay draws 20261373 and 20261368 two
-/// strong 50 kg appendages at 17 and 19 Hz above a 13.7 Hz top mode were `none` and
-/// `sensor_scale(q3)` without this start.
+/// 38 Hz released with 9 kN, 5.6 σ, answered a −0.5 % gauge scale on the free-decay draw
+/// 20261374). Without this start, on the free-decay draw 20261373, 50 kg at 17 Hz on floor 1
+/// was `none` and 50 kg at 19 Hz on the roof was answered `sensor_scale(q3)`, the building's
+/// top mode near 13–14 Hz.
 const STIFF_BODY: f64 = 1.5;
 
 /// The damping ratio the stiff appendage ([`STIFF_BODY`]) starts from.
@@ -430,14 +431,15 @@ struct Body {
 /// A mode the model lacks as a mass on a spring and damper at a coordinate
 /// ([`Effect::Appendage`]): first at the coordinate's own body where the appendage scan found
 /// one (`bodies`), then at every mode seed not within 10 % of it (in free decay also above the
-/// modelled modes, [`STIFF_BODY`]). Where the missing mode is a
-/// body hanging on the structure, it pushes back on it, and a ringing added to the outputs (the
+/// modelled modes, [`STIFF_BODY`]). Where the missing mode is a body hanging on the structure,
+/// it pushes back on it, and a ringing added to the outputs (the
 /// free [`Effect::UnmodeledMode`]) cannot follow what its release or its reaction does to the
 /// structure's own modes. Its mass starts at the body's first-order mass (within its bounds),
-/// else at [`APPENDAGE_START_MASS`] of the coordinate's (bounds 10⁻⁴–1 of it); in free decay it is released with its spring's force F_r
-/// (`appendage_release_<c>`, bounds ± the coordinate's stiffness force at its peak
-/// displacement, k_jj q̂, from 0: relaxed; the stiff start's held relaxed), on a forced record it
-/// starts at rest with the structure. Its strength is the larger of the mass's and the release's resolution from zero.
+/// else at [`APPENDAGE_START_MASS`] of the coordinate's (bounds 10⁻⁴–1 of it); in free decay
+/// it is released with its spring's force F_r (`appendage_release_<c>`, bounds ± the
+/// coordinate's stiffness force at its peak displacement, k_jj q̂, from 0: relaxed; the stiff
+/// start's held relaxed), on a forced record it starts at rest with the structure. Its strength
+/// is the larger of the mass's and the release's resolution from zero.
 fn appendages(
     model: &StructureModel,
     record: &Measurement,
