@@ -33,7 +33,7 @@ use plant::EffectKind;
 /// 2^{−1/n} of the clamp at the limit, 1.4 % for n = 50, and closer elsewhere.
 pub(super) const CLAMP_KNEE: f64 = 50.0;
 
-/// The knee of the catalog's limiter, x/(1 + |x/L|⁸)^{1/8} ([`plant::smooth_limit`]).
+/// The knee of the catalog's limiter, x/(1 + |x/L|⁸)^{1/8} ([`plant::nonlinear::smooth_limit`]).
 const CATALOG_KNEE: f64 = 8.0;
 
 /// The knee test of a named saturation ([`SaturationKnee`]), refitted from the test's reference

@@ -11,7 +11,7 @@
 //! step j) gives γ(0) = C P Cᵀ + D′D′ᵀ and γ(l) = C Φˡ P Cᵀ + C Φˡ⁻¹ B′ D′ᵀ for l ≥ 1
 //! (Anderson & Moore, *Optimal Filtering*, 1979, §4.4).
 //!
-//! The Welch estimate of [`super::input_noise`] reads a residual's spectrum on bins a quarter of
+//! The Welch estimate of [`super::input_noise()`] reads a residual's spectrum on bins a quarter of
 //! the record wide, far wider than a lightly damped mode's half-power band: the expected windowed
 //! periodogram of a series of autocovariance γ is Σ_l c_l γ(l) e^{−iω_b l}, c_l = Σ_n w_n w_{n+|l|}
 //! the window's own autocorrelation (Percival & Walden, *Spectral Analysis for Physical

@@ -17,7 +17,7 @@
 //!   Regressing r on the phase of x̂ does not suffer the noise's blur of the readings'
 //!   own phase, so it sees a step that [`blurred`] cannot (about 2.5× the z at Δ = 3.6σ). The
 //!   period is found on the first half of the moving samples and the sinusoid confirmed on the
-//!   second, where its amplitude must also be a rounding's, Δ/π ([`sawtooth`]). Its samples run
+//!   second, where its amplitude must also be a rounding's, Δ/π ([`sawtooth()`]). Its samples run
 //!   while the fitted response is more than ten residual σ from rest, not only while the
 //!   readings swing beyond a tenth of their range: a large signal crosses many steps long after
 //!   that. Where the model misses by more than Δ/2π (it lacks another effect, say), the phase of

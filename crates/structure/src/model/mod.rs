@@ -200,7 +200,7 @@ impl StructureModel {
     }
 
     /// Checks that M at the current values gives positive kinetic energy for every motion
-    /// ([`crate::assemble::Compiled::positive_mass`]), as the file's values were checked when it
+    /// (`Compiled::positive_mass` in module `assemble`), as the file's values were checked when it
     /// was read: for values a user set by hand ([`Self::set`] checks each alone, and a fit moves
     /// them as the data ask).
     ///

@@ -104,7 +104,7 @@ pub(super) struct Seed {
 /// `record` seconds: from a third of the record (it levels off over the record, 95 % of its
 /// level at the end) to three records (within 15 % of a constant rate at the end), started at
 /// half and at the whole record (the refit keeps the better). The data must locate τ inside
-/// that range and resolve it ([`Trial::interior`]): on its lower bound the drift is an offset
+/// that range and resolve it ([`super::Trial::interior`]): on its lower bound the drift is an offset
 /// but for the record's first seconds — where the motion is largest, so that its rise stands
 /// in for a misfit of the dynamics there (a delay's) as much as for a sensor; on its upper one
 /// it is a constant rate. `None` for a record of no known length.

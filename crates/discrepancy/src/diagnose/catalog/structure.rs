@@ -1,7 +1,8 @@
 //! A structure's candidates: sensor offset, scale and drift on every output; dry friction,
 //! drag and a cubic spring at every coordinate of a second-order model; an unmodeled mode
 //! where the residual or the data hold one, ringing in the outputs and, on a second-order
-//! model, as an appendage at every coordinate ([`appendages`]). Starting values and bounds come
+//! model, as an appendage at every coordinate ([`appendages`]; in free decay also one held
+//! relaxed above the modelled modes, [`STIFF_BODY`]). Starting values and bounds come
 //! from the model's own stiffness, damping and response (its peak displacement and velocity per
 //! coordinate, in its free decay or, on a forced record, in its response to the record's inputs;
 //! there the mode is driven by an input, from rest).
