@@ -466,8 +466,10 @@ fn appendages(
             .iter()
             .map(|&(seed, mass)| (seed, mass, !forced))
             .chain(seeds.iter().filter(|s| !near_own(s)).map(|s| (*s, APPENDAGE_START_MASS * m, !forced)))
-            .chain(stiff.filter(|s| !near_own(s)).map(|s| (s, APPENDAGE_START_MASS * m, false)))
+            // (The scan's bodies are a forced record's, the stiff start free decay's.)
+            .chain(stiff.map(|s| (s, APPENDAGE_START_MASS * m, false)))
             .collect();
+        let release = format!("appendage_release_{c}");
         for &(ref seed, mass, released) in &starts {
             let (zeta, (low, high)) = (seed.damping, seed.range);
             let located = Located {
@@ -491,8 +493,8 @@ fn appendages(
             ];
             let mut strength = vec![format!("appendage_mass_{c}")];
             if released {
-                bounds.push((format!("appendage_release_{c}"), (-k * q, k * q)));
-                strength.push(format!("appendage_release_{c}"));
+                bounds.push((release.clone(), (-k * q, k * q)));
+                strength.push(release.clone());
             }
             let mut t = trial(
                 at(seed.frequency),
@@ -503,7 +505,7 @@ fn appendages(
             )
             .or_from_other_starts(seed, at);
             // A relaxed start holds its release at 0.
-            t.freed.retain(|n| released || *n != format!("appendage_release_{c}"));
+            t.freed.retain(|n| released || *n != release);
             t.located = Some(located);
             out.push(t);
         }
