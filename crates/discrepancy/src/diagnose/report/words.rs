@@ -169,9 +169,12 @@ impl Diagnosis {
                         } else if let Some(y) = r.evidence.held_out {
                             // Strengths within a standard error of each other: the fewer
                             // parameters decided, where the two differ in number.
-                            let by_size = (r.evidence.strength_z - c.evidence.strength_z).abs()
-                                < super::super::named::STRENGTH_TIE
-                                && r.parameters.len() != c.parameters.len();
+                            let z_tied = (r.evidence.strength_z - c.evidence.strength_z).abs()
+                                < super::super::named::STRENGTH_TIE;
+                            let by_size = z_tied && r.parameters.len() != c.parameters.len();
+                            // Two bodies of as many parameters: the better fit decided.
+                            let body = |c: &Candidate| super::super::named::appendage_at(c).is_some();
+                            let by_fit = z_tied && !by_size && body(c) && body(r);
                             out.push(format!(
                                 "{} predicts within {:.1} nats of it (ΔBIC {:.1} against {:.1}, strength {:.1} σ \
                                  against {:.1}): these data barely tell the two apart, and {}",
@@ -184,6 +187,9 @@ impl Diagnosis {
                                 if by_size {
                                     "with strengths within a standard error of each other the account with fewer \
                                      parameters decided"
+                                } else if by_fit {
+                                    "with strengths within a standard error of each other the body that fits the \
+                                     record better in sample gives the mode"
                                 } else {
                                     "the strength resolved by more standard errors decided"
                                 }
