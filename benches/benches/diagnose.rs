@@ -22,7 +22,9 @@
 //! coordinate for every mode seed: the building with a 35 kg appendage on floor 1 released so
 //! that it rings (`appendage_ringing_q1.csv`, named at q1), and two released relaxed above the
 //! building's modes, found from the start above them (`appendage_q3.csv`, 25 kg at 19 Hz on the
-//! roof; `structure_stiff_appendage_q1.csv`, the structure study's 50 kg at 17 Hz on floor 1).
+//! roof; `structure_stiff_appendage_q1.csv`, the structure study's 50 kg at 17 Hz on floor 1),
+//! and one the masses take up unless the body is chosen among floors by its fit, which the
+//! diagnosis assesses with the masses and without them (`structure_body_or_masses_q1.csv`).
 //! A gauge scale tied with the other
 //! gauge's while the masses are free, weighed again without them (`study_scale_q1_noisy_force.csv`,
 //! named at q1).
@@ -59,9 +61,14 @@ fn bench_diagnose(c: &mut Criterion) {
     group.bench_function("diagnose/shear_building_quant_after_q3", |b| {
         b.iter(|| diagnose(black_box(&model), &data, &options).unwrap())
     });
-    for case in
-        ["cubic_q1", "settling_q2", "appendage_ringing_q1", "appendage_q3", "structure_stiff_appendage_q1"]
-    {
+    for case in [
+        "cubic_q1",
+        "settling_q2",
+        "appendage_ringing_q1",
+        "appendage_q3",
+        "structure_stiff_appendage_q1",
+        "structure_body_or_masses_q1",
+    ] {
         let data = mem::Measurement::read_csv(&fixture(&format!("independent/effects/{case}.csv"))).unwrap();
         group.bench_function(format!("diagnose/shear_building_{case}"), |b| {
             b.iter(|| diagnose(black_box(&model), &data, &options).unwrap())
