@@ -139,9 +139,10 @@
 //! whose held-out gains lie within the threshold of the best (not told apart), the one whose
 //! strength is resolved by the most standard errors — within a standard error of it, the one
 //! of fewest parameters, and between bodies hung at different floors the one that fits the
-//! record best in sample (its floor a claim the label withholds where it is not told). A sensor's offset and its drift are two
-//! laws of one error, its zero: where one is chosen and the other, set aside only by step 6,
-//! predicts the held-out blocks better by the threshold, the other is named (module `named`).
+//! record best in sample (its floor a claim the label withholds where it is not told). A
+//! sensor's offset and its drift are two laws of one error, its zero: where one is chosen and
+//! the other, set aside only by step 6, predicts the held-out blocks better by the threshold,
+//! the other is named (module `named`).
 //! A candidate that makes a further claim
 //! than a passing sibling is named only where the data make it: a voltage limit, which says
 //! which quantity the amplifier limits (so the back-EMF acts beyond it), only where its held-out
