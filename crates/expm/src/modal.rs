@@ -9,7 +9,7 @@
 //! w_k[j] = μ_jᵏ (w₀[j] + Σ_l D_jl) − Σ_l D_jl μ_lᵏ + G_jj k μ_jᵏ⁻¹,
 //! ```
 //!
-//! so every output and sensitivity is Re(P₁ [μ_jᵏ] + P₂ [k μ_jᵏ⁻¹]): two complex matrix products
+//! so every output and sensitivity is `Re(P₁ [μ_jᵏ] + P₂ [k μ_jᵏ⁻¹])`: two complex matrix products
 //! of (j+1)p × N coefficients with the N × K matrices of powers — O(N³j) to set up and
 //! O(p j N K) to evaluate, against O(j N² K) for the propagation.
 //!

@@ -99,7 +99,7 @@ impl NoisePredictor {
         (m, self.coefficients(m).iter().zip(past).map(|(a, x)| a * x).sum())
     }
 
-    /// The scaled innovations of one unbroken series (as [`NoisePredictor::whiten`] with a
+    /// The scaled innovations of one unbroken series (as the crate's segment-wise `whiten` with a
     /// single segment): a linear, time-invariant map once past the first q samples, so a
     /// regression whitened by it is the generalised least squares of this noise.
     pub fn whitened(&self, series: &[f64]) -> Vec<f64> {

@@ -113,7 +113,7 @@ pub struct Statistics {
     #[serde(serialize_with = "matrix")]
     pub covariance: Mat<f64>,
     /// The same covariance with the rows and columns of parameters held on a bound, or whose
-    /// interval would hold all of their box ([`spans_bounds`]), kept: their local, linearised
+    /// interval would hold all of their box, kept: their local, linearised
     /// uncertainty as if they were free and unbounded (NaN only where a combination is
     /// undetermined). Not an interval for them (a bound parameter's is one-sided); it is what a
     /// test that holds such a parameter at its estimate conditions on
