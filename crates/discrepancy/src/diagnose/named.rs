@@ -265,11 +265,9 @@ pub(super) fn choose(candidates: &[Candidate], threshold: f64) -> Option<usize> 
         // residual; the strength's standard error is a sandwich over each refit's own residual
         // variance and correlation (White 1982), so a candidate that gains by bending into
         // structure it leaves has a wide one. Strengths within [`STRENGTH_TIE`] of the largest
-        // are not told apart either, and among them the fewest parameters decide
-        // ([`most_resolved`]).
-        let tied = not_told_apart(candidates, threshold);
-        most_resolved(candidates, &tied)
-            .map(|i| best_fitting_body(candidates, i, &tied))
+        // are not told apart either, and among them the fewest parameters decide, between
+        // bodies at floors the better fit ([`most_resolved`]).
+        most_resolved(candidates, &not_told_apart(candidates, threshold))
             .map(|i| zeros_law(candidates, unless_told_apart(candidates, i, threshold), threshold))
     })
 }
@@ -289,41 +287,36 @@ pub const STRENGTH_TIE: f64 = 1.0;
 /// cubic spring at the roof for a storey that lost stiffness (20261356 `C_loss_step_strong_s0`,
 /// z 60.6 against floor 2's 61.5, ΔBIC −2,468.2 against −2,456.5), where the spring the larger
 /// z names is then matched by a stiffness changing in time and nothing is named.
+///
+/// Where that is a body at a floor, the body among `tied` of as many parameters, its strength
+/// within [`STRENGTH_TIE`] of the chosen one's, that fits the record best in sample (the
+/// smallest ΔBIC) is chosen instead: the mode is what the record shows, and which floor it hangs
+/// at is a claim [`floor_untold`] withholds where it is not told; the larger z there is no
+/// choice between two fits of one mode, and the better fit gives the mode's frequency and mass
+/// and is what rival accounts are weighed against. On the free-decay draw 20261377
+/// (`A_appendage_strong_s0`, 50 kg at 18.8 Hz on floor 1) a body on floor 2 at 14.78 Hz (z 12.7,
+/// 81.8 nats in sample) was chosen over floor 1's at 18.33 Hz (z 12.0, 91.9 nats, 3.9 nats ahead
+/// held out): that account fell 2.0 nats short of `m1` and `m2` freed, which were kept, and
+/// nothing was named; the floor-1 body's beats them ([`super::secondary`]). Springs at two
+/// floors stay the larger z's.
 pub(super) fn most_resolved(candidates: &[Candidate], tied: &[usize]) -> Option<usize> {
     let z = |i: usize| candidates[i].evidence.strength_z;
     let size = |i: usize| candidates[i].parameters.len();
     let bic = |i: usize| candidates[i].evidence.delta_bic;
+    let body = |i: usize| appendage_at(&candidates[i]).is_some();
     let best = tied.iter().map(|&i| z(i)).fold(f64::NEG_INFINITY, f64::max);
-    tied.iter()
-        .copied()
-        .filter(|&i| best - z(i) < STRENGTH_TIE)
-        .min_by(|&a, &b| size(a).cmp(&size(b)).then(z(b).total_cmp(&z(a))).then(bic(a).total_cmp(&bic(b))))
-}
-
-/// For a body chosen at one floor ([`most_resolved`]), the body among `tied` (held-out gains not
-/// told apart) of as many parameters, its strength within [`STRENGTH_TIE`] of the chosen one's,
-/// that fits the record best in sample (the smallest ΔBIC): the mode is what the record shows,
-/// and which floor it hangs at is a claim [`floor_untold`] withholds where it is not told; the
-/// larger z there is no choice between two fits of one mode, and the better fit gives the mode's
-/// frequency and mass and is what rival accounts are weighed against. On the free-decay draw
-/// 20261377 (`A_appendage_strong_s0`, 50 kg at 18.8 Hz on floor 1) a body on floor 2 at 14.78 Hz
-/// (z 12.7, 81.8 nats in sample) was chosen over floor 1's at 18.33 Hz (z 12.0, 91.9 nats,
-/// 3.9 nats ahead held out): that account fell 2.0 nats short of `m1` and `m2` freed, which
-/// were kept, and nothing was named; the floor-1 body's beats them ([`super::secondary`]). A
-/// choice between springs at two floors stays the larger z's ([`most_resolved`]).
-fn best_fitting_body(candidates: &[Candidate], chosen: usize, tied: &[usize]) -> usize {
-    if appendage_at(&candidates[chosen]).is_none() {
-        return chosen;
+    let chosen =
+        tied.iter().copied().filter(|&i| best - z(i) < STRENGTH_TIE).min_by(|&a, &b| {
+            size(a).cmp(&size(b)).then(z(b).total_cmp(&z(a))).then(bic(a).total_cmp(&bic(b)))
+        })?;
+    if !body(chosen) {
+        return Some(chosen);
     }
-    let z = |i: usize| candidates[i].evidence.strength_z;
-    let size = |i: usize| candidates[i].parameters.len();
-    let bic = |i: usize| candidates[i].evidence.delta_bic;
     tied.iter()
         .copied()
-        .filter(|&j| appendage_at(&candidates[j]).is_some() && size(j) == size(chosen))
-        .filter(|&j| (z(j) - z(chosen)).abs() < STRENGTH_TIE)
+        .filter(|&j| body(j) && size(j) == size(chosen) && (z(j) - z(chosen)).abs() < STRENGTH_TIE)
         .min_by(|&a, &b| bic(a).total_cmp(&bic(b)))
-        .unwrap_or(chosen)
+        .or(Some(chosen))
 }
 
 /// Whether `kind` is a law in time of a sensor's zero: an offset or a drift ([`zeros_law`]).
